@@ -1,0 +1,116 @@
+"""The two-model task: robot model, human model, and the model difference between them.
+
+This is the object the rest of mega-sat works on.  Candidate human models are named by
+subsets of ``delta`` (as frozensets of indices into it): ``frozenset()`` is the human model and
+``task.all_updates`` (every index) is the robot model.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import dataclass, field
+from functools import cached_property
+
+from mega_sat.errors import ModelMismatchError, UsageError
+from mega_sat.features import Update, apply_updates, model_difference
+from mega_sat.model import Atom, Model, Schema
+
+Selection = frozenset[int]
+"""A subset E of Delta, as indices into ``TwoModelTask.delta``."""
+
+
+def _rename(atoms: frozenset[Atom], ren: dict[str, str]) -> frozenset[Atom]:
+    return frozenset((a[0],) + tuple(ren.get(x, x) for x in a[1:]) for a in atoms)
+
+
+def align_human(robot: Model, human: Model, *, robot_name: str = "robot domain",
+                human_name: str = "human domain") -> Model:
+    """Rename the human's schema parameters to the robot's, matching them by position.
+
+    Raises :class:`ModelMismatchError` on a schema or predicate of different arity.
+    """
+    for p, n in human.predicates.items():
+        if p in robot.predicates and robot.predicates[p] != n:
+            raise ModelMismatchError(
+                f"predicate '{p}' has {robot.predicates[p]} argument(s) in the {robot_name} "
+                f"but {n} in the {human_name}")
+    for term in set(robot.functions) ^ set(human.functions):
+        side = robot_name if term in robot.functions else human_name
+        raise ModelMismatchError(
+            f"cost function value ({' '.join(term)}) is defined only in the "
+            f"{side.replace('domain', 'problem')}")
+    schemas: dict[str, Schema] = {}
+    for name, hs in human.schemas.items():
+        rs = robot.schemas.get(name)
+        if rs is None:
+            schemas[name] = hs
+            continue
+        if len(rs.params) != len(hs.params):
+            raise ModelMismatchError(
+                f"action '{name}' has {len(rs.params)} parameter(s) in the {robot_name} but "
+                f"{len(hs.params)} in the {human_name}")
+        ren = dict(zip(hs.params, rs.params, strict=True))
+        cost = hs.cost
+        if not isinstance(cost, int):
+            cost = (cost[0],) + tuple(ren.get(x, x) for x in cost[1:])
+        schemas[name] = Schema(name, rs.params, _rename(hs.pre, ren), _rename(hs.negpre, ren),
+                               _rename(hs.add, ren), _rename(hs.delete, ren), cost)
+    return Model(
+        domain_name=human.domain_name, problem_name=human.problem_name,
+        predicates=human.predicates, schemas=schemas, objects=human.objects,
+        init=human.init, goal=human.goal, type_predicates=human.type_predicates,
+        functions=human.functions, function_arities=human.function_arities,
+        uses_costs=human.uses_costs)
+
+
+@dataclass(frozen=True)
+class TwoModelTask:
+    """Robot model ``M^R``, human model ``M^R_h`` (aligned) and ``Delta``.
+
+    ``sources`` records where the models came from, for messages.
+    """
+
+    robot: Model
+    human: Model
+    delta: tuple[Update, ...]
+    sources: dict[str, str] = field(default_factory=dict, compare=False)
+
+    @classmethod
+    def from_models(cls, robot: Model, human: Model,
+                    sources: dict[str, str] | None = None) -> TwoModelTask:
+        sources = sources or {}
+        human = align_human(robot, human,
+                            robot_name=sources.get("robot_domain", "robot domain"),
+                            human_name=sources.get("human_domain", "human domain"))
+        return cls(robot, human, model_difference(robot, human), dict(sources))
+
+    @cached_property
+    def all_updates(self) -> Selection:
+        return frozenset(range(len(self.delta)))
+
+    @cached_property
+    def update_index(self) -> dict[str, int]:
+        return {u.name: i for i, u in enumerate(self.delta)}
+
+    def updated_model(self, selection: Iterable[int]) -> Model:
+        """``human + E`` for ``E`` given as indices into ``delta``."""
+        return apply_updates(self.human, self.robot, [self.delta[i] for i in sorted(selection)])
+
+    def selection_from_names(self, names: Iterable[str], *, path: str | None = None) -> Selection:
+        """Turn ``add-...``/``remove-...`` lines into a selection; unknown lines are an error."""
+        out = set()
+        for lineno, raw in enumerate(names, 1):
+            line = raw.strip()
+            if line.startswith("Explanation >>"):
+                line = line[len("Explanation >>"):].strip()
+            if not line or line.startswith(";") or line.startswith("#"):
+                continue
+            if line not in self.update_index:
+                raise UsageError(f"'{line}' is not an update of the model difference "
+                                 "(see 'mega-sat diff')", path=path, where=f"line {lineno}")
+            out.add(self.update_index[line])
+        return frozenset(out)
+
+    def names(self, selection: Iterable[int]) -> list[str]:
+        """Update names of a selection, in canonical order."""
+        return [self.delta[i].name for i in sorted(selection)]
