@@ -24,10 +24,13 @@ def _rename(atoms: frozenset[Atom], ren: dict[str, str]) -> frozenset[Atom]:
 
 
 def align_human(robot: Model, human: Model, *, robot_name: str = "robot domain",
-                human_name: str = "human domain") -> Model:
+                human_name: str = "human domain", robot_problem_name: str | None = None,
+                human_problem_name: str | None = None) -> Model:
     """Rename the human's schema parameters to the robot's, matching them by position.
 
-    Raises :class:`ModelMismatchError` on a schema or predicate of different arity.
+    Raises :class:`ModelMismatchError` on a schema or predicate of different arity.  The
+    ``*_name`` arguments name the files in messages (problem names default to the domain
+    names with 'domain' replaced by 'problem').
     """
     for p, n in human.predicates.items():
         if p in robot.predicates and robot.predicates[p] != n:
@@ -35,10 +38,12 @@ def align_human(robot: Model, human: Model, *, robot_name: str = "robot domain",
                 f"predicate '{p}' has {robot.predicates[p]} argument(s) in the {robot_name} "
                 f"but {n} in the {human_name}")
     for term in set(robot.functions) ^ set(human.functions):
-        side = robot_name if term in robot.functions else human_name
+        if term in robot.functions:
+            side = robot_problem_name or robot_name.replace("domain", "problem")
+        else:
+            side = human_problem_name or human_name.replace("domain", "problem")
         raise ModelMismatchError(
-            f"cost function value ({' '.join(term)}) is defined only in the "
-            f"{side.replace('domain', 'problem')}")
+            f"cost function value ({' '.join(term)}) is defined only in the {side}")
     schemas: dict[str, Schema] = {}
     for name, hs in human.schemas.items():
         rs = robot.schemas.get(name)
@@ -81,7 +86,9 @@ class TwoModelTask:
         sources = sources or {}
         human = align_human(robot, human,
                             robot_name=sources.get("robot_domain", "robot domain"),
-                            human_name=sources.get("human_domain", "human domain"))
+                            human_name=sources.get("human_domain", "human domain"),
+                            robot_problem_name=sources.get("robot_problem"),
+                            human_problem_name=sources.get("human_problem"))
         return cls(robot, human, model_difference(robot, human), dict(sources))
 
     @cached_property

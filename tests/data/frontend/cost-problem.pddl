@@ -1,0 +1,8 @@
+(define (problem roads-1)
+  (:domain roads)
+  (:objects a b c - city)
+  (:init (at a) (connected a b) (connected b c)
+         (= (total-cost) 0)
+         (= (road-length a b) 3) (= (road-length b c) 4))
+  (:goal (and (at c) (visited b)))
+  (:metric minimize (total-cost)))

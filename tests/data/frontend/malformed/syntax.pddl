@@ -1,0 +1,8 @@
+(define (domain base)
+  (:requirements :strips)
+  (:predicates (p ?x) (q ?x) (r ?x ?y))
+  (:action a
+    :parameters (?x)
+    :precondition (p ?x)
+    :effect (q ?x)
+    :effect (p ?x)))

@@ -1,0 +1,6 @@
+; malformed/undefined-object
+(define (problem base-1)
+  (:domain base)
+  (:objects o1 o2)
+  (:init (p o1) (r o1 o3))
+  (:goal (and (q o1))))

@@ -1,0 +1,5 @@
+(define (problem rover-1)
+  (:domain rover)
+  (:objects r1 w1 w2)
+  (:init (at r1 w1) (empty r1))
+  (:goal (and (sampled w2))))

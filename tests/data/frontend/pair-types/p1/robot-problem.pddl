@@ -1,0 +1,5 @@
+(define (problem delivery-1)
+  (:domain delivery)
+  (:objects d1 - drone pkg - parcel home - place)
+  (:init (at d1 home) (holding d1 pkg))
+  (:goal (and (delivered pkg))))

@@ -1,0 +1,8 @@
+; unsupported: assign
+(define (domain base)
+  (:requirements :strips :adl)
+  (:predicates (p ?x) (q ?x) (r ?x ?y))
+  (:action a
+    :parameters (?x ?y)
+    :precondition (and (p ?x) (not (q ?y)))
+    :effect (and (q ?x) (assign (fuel) 3))))

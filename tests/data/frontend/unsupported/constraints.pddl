@@ -1,0 +1,7 @@
+; unsupported/constraints
+(define (problem base-1)
+  (:domain base)
+  (:objects o1 o2)
+  (:init (p o1) (r o1 o2))
+  (:goal (and (q o1)))
+  (:constraints (always (p o1))))

@@ -1,0 +1,8 @@
+; unsupported: equality
+(define (domain base)
+  (:requirements :strips :adl)
+  (:predicates (p ?x) (q ?x) (r ?x ?y))
+  (:action a
+    :parameters (?x ?y)
+    :precondition (and (p ?x) (= ?x ?y))
+    :effect (and (q ?x) (not (p ?x)))))

@@ -1,0 +1,8 @@
+; unsupported: forall-effect
+(define (domain base)
+  (:requirements :strips :adl)
+  (:predicates (p ?x) (q ?x) (r ?x ?y))
+  (:action a
+    :parameters (?x ?y)
+    :precondition (and (p ?x) (not (q ?y)))
+    :effect (forall (?z) (not (p ?z)))))

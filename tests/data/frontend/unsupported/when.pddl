@@ -1,0 +1,8 @@
+; unsupported: when
+(define (domain base)
+  (:requirements :strips :adl)
+  (:predicates (p ?x) (q ?x) (r ?x ?y))
+  (:action a
+    :parameters (?x ?y)
+    :precondition (and (p ?x) (not (q ?y)))
+    :effect (when (p ?y) (q ?y))))

@@ -1,0 +1,127 @@
+"""Loading two-model tasks from files, strings and ``--task`` directories."""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import pytest
+
+from mega_sat.errors import ModelMismatchError, PDDLError, UsageError
+from mega_sat.loading import load_task, load_task_from_strings, resolve_task_dir
+
+DATA = Path(__file__).parent / "data" / "frontend"
+TYPES = DATA / "pair-types"
+ARITY = DATA / "pair-arity"
+
+
+def test_task_dir_with_domains_in_parent():
+    paths = resolve_task_dir(TYPES / "p1")
+    assert paths == {
+        "robot_domain": TYPES / "robot-domain.pddl",
+        "robot_problem": TYPES / "p1" / "robot-problem.pddl",
+        "human_domain": TYPES / "human-domain.pddl",
+        "human_problem": TYPES / "p1" / "robot-problem.pddl",  # defaults to the robot's
+    }
+
+
+def test_different_type_hierarchies_become_explainable_differences():
+    task = load_task(**resolve_task_dir(TYPES / "p1"))
+    names = {u.name for u in task.delta}
+    # the robot thinks a drone is a vehicle, the human does not
+    assert names == {"add-has-initial-state-vehicle d1"}
+    # the human's parameter names are aligned to the robot's by position
+    assert task.human.schemas["deliver"].params == ("?v", "?o", "?p")
+    assert task.sources["human_domain"] == str(TYPES / "human-domain.pddl")
+    assert task.sources["human_problem"] == str(TYPES / "p1" / "robot-problem.pddl")
+
+
+def test_human_problem_defaults_to_robot_problem():
+    task = load_task(TYPES / "robot-domain.pddl", TYPES / "p1" / "robot-problem.pddl",
+                     TYPES / "human-domain.pddl")  # fmt: skip
+    assert task.human.goal == task.robot.goal
+    assert task.sources["human_problem"] == task.sources["robot_problem"]
+
+
+def test_mismatched_arity_names_both_files():
+    paths = resolve_task_dir(ARITY)
+    assert paths["human_problem"] == ARITY / "human-problem.pddl"
+    with pytest.raises(ModelMismatchError) as info:
+        load_task(**paths)
+    msg = str(info.value)
+    assert "predicate 'at' has 2 argument(s)" in msg and "but 1" in msg
+    assert str(ARITY / "robot-domain.pddl") in msg and str(ARITY / "human-domain.pddl") in msg
+
+
+def test_pddl_error_names_the_human_file():
+    # the robot problem does not fit the human domain's arity for 'at'
+    with pytest.raises(PDDLError) as info:
+        load_task(ARITY / "robot-domain.pddl", ARITY / "robot-problem.pddl",
+                  ARITY / "human-domain.pddl")  # fmt: skip
+    assert str(info.value).startswith(f"error: {ARITY / 'robot-problem.pddl'}: line 4: ")
+    assert "predicate 'at' takes 1 argument(s), got 2 in :init" in str(info.value)
+
+
+def test_missing_file_in_load_task(tmp_path):
+    with pytest.raises(PDDLError, match="human domain file not found"):
+        load_task(TYPES / "robot-domain.pddl", TYPES / "p1" / "robot-problem.pddl",
+                  tmp_path / "human-domain.pddl")  # fmt: skip
+
+
+def test_load_task_from_strings():
+    rd = (TYPES / "robot-domain.pddl").read_text()
+    hd = (TYPES / "human-domain.pddl").read_text()
+    rp = (TYPES / "p1" / "robot-problem.pddl").read_text()
+    task = load_task_from_strings(rd, rp, hd)
+    assert [u.name for u in task.delta] == ["add-has-initial-state-vehicle d1"]
+    with pytest.raises(PDDLError) as info:
+        load_task_from_strings(rd, rp, hd.replace("(:types", "(:typez"))
+    assert str(info.value).startswith("error: human domain: line 4: unknown domain section")
+
+
+def test_load_task_from_strings_mismatch_names_models():
+    texts = [(ARITY / f).read_text() for f in ("robot-domain.pddl", "robot-problem.pddl",
+                                                "human-domain.pddl", "human-problem.pddl")]  # fmt: skip
+    with pytest.raises(ModelMismatchError) as info:
+        load_task_from_strings(*texts)
+    assert "in the robot domain but 1 in the human domain" in str(info.value)
+
+
+def _copy(src: Path, dst: Path) -> None:
+    dst.parent.mkdir(parents=True, exist_ok=True)
+    shutil.copy(src, dst)
+
+
+def test_task_dir_prefers_its_own_domains_and_human_problem(tmp_path):
+    task_dir = tmp_path / "p1"
+    _copy(TYPES / "robot-domain.pddl", tmp_path / "robot-domain.pddl")
+    _copy(TYPES / "human-domain.pddl", tmp_path / "human-domain.pddl")
+    _copy(TYPES / "robot-domain.pddl", task_dir / "human-domain.pddl")  # overrides the parent's
+    _copy(TYPES / "p1" / "robot-problem.pddl", task_dir / "robot-problem.pddl")
+    _copy(TYPES / "p1" / "robot-problem.pddl", task_dir / "human-problem.pddl")
+    paths = resolve_task_dir(task_dir)
+    assert paths["robot_domain"] == tmp_path / "robot-domain.pddl"
+    assert paths["human_domain"] == task_dir / "human-domain.pddl"
+    assert paths["human_problem"] == task_dir / "human-problem.pddl"
+    assert load_task(**paths).delta == ()
+
+
+def test_task_dir_errors(tmp_path):
+    with pytest.raises(UsageError) as info:
+        resolve_task_dir(tmp_path / "absent")
+    assert str(info.value) == f"error: {tmp_path / 'absent'}: task directory not found"
+
+    task_dir = tmp_path / "p1"
+    task_dir.mkdir()
+    with pytest.raises(UsageError) as info:
+        resolve_task_dir(task_dir)
+    assert str(info.value) == f"error: {task_dir}: no robot-problem.pddl in the task directory"
+
+    _copy(TYPES / "p1" / "robot-problem.pddl", task_dir / "robot-problem.pddl")
+    _copy(TYPES / "robot-domain.pddl", tmp_path / "robot-domain.pddl")
+    with pytest.raises(UsageError) as info:
+        resolve_task_dir(task_dir)
+    msg = str(info.value)
+    assert "no human-domain.pddl in the task directory or its parent" in msg
+    assert str(task_dir / "human-domain.pddl") in msg
+    assert str(tmp_path / "human-domain.pddl") in msg

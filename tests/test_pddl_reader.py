@@ -1,0 +1,266 @@
+"""PDDL reader: type compilation, costs, case, and one-line errors naming file/line/construct."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from mega_sat.errors import PDDLError
+from mega_sat.pddl_reader import parse_model, read_model
+
+DATA = Path(__file__).parent / "data" / "frontend"
+BASE_DOMAIN = DATA / "base-domain.pddl"
+BASE_PROBLEM = DATA / "base-problem.pddl"
+
+
+def _error(domain: Path, problem: Path) -> PDDLError:
+    with pytest.raises(PDDLError) as info:
+        read_model(domain, problem)
+    msg = str(info.value)
+    assert "\n" not in msg and msg.startswith("error: ")
+    return info.value
+
+
+def test_typed_domain_compiles_types_into_predicates():
+    m = read_model(DATA / "typed-domain.pddl", DATA / "typed-problem.pddl")
+    assert m.domain_name == "typed-logistics" and m.problem_name == "typed-1"
+    assert m.type_predicates == {"truck", "car", "vehicle", "package", "locatable", "place"}
+    for t in m.type_predicates:
+        assert m.predicates[t] == 1
+    assert m.predicates["at"] == 2 and m.predicates["road"] == 2
+    # an object gets its type and every supertype except 'object'
+    assert {a for a in m.init if a[1] == "car1" and len(a) == 2} == {
+        ("car", "car1"),
+        ("vehicle", "car1"),
+        ("locatable", "car1"),
+    }
+    # typed domain constants are objects, their type atoms are initial-state atoms
+    assert {"depot", "van1"} <= m.objects
+    assert {("place", "depot"), ("truck", "van1"), ("vehicle", "van1")} <= m.init
+    # an untyped object has no type atoms
+    assert "thing" in m.objects
+    assert not any("thing" in a[1:] for a in m.init)
+    drive = m.schemas["drive"]
+    assert drive.params == ("?v", "?from", "?to")
+    assert {("vehicle", "?v"), ("place", "?from"), ("place", "?to")} <= drive.pre
+    assert drive.negpre == {("broken", "?v")}
+    assert drive.add == {("at", "?v", "?to")} and drive.delete == {("at", "?v", "?from")}
+    assert ("at", "?v", "depot") in m.schemas["unload-at-depot"].pre
+    wait = m.schemas["wait"]  # '?x' is of type object: no type precondition; '()' is empty
+    assert wait.pre == frozenset() and wait.add == frozenset() and wait.cost == 1
+    assert not m.uses_costs and all(s.cost == 1 for s in m.schemas.values())
+    assert m.goal == {("at", "pkg", "depot")}
+
+
+def test_cost_functions_and_constant_costs():
+    m = read_model(DATA / "cost-domain.pddl", DATA / "cost-problem.pddl")
+    assert m.uses_costs
+    assert m.schemas["drive"].cost == ("road-length", "?from", "?to")
+    assert m.schemas["teleport"].cost == 10
+    assert m.schemas["look"].cost == 0  # no cost effect under :action-costs costs 0
+    assert m.functions == {("road-length", "a", "b"): 3, ("road-length", "b", "c"): 4}
+    assert m.function_arities == {"road-length": 2}
+    assert "total-cost" not in m.predicates
+    assert m.schema_cost(m.schemas["drive"], ("b", "c")) == 4
+
+
+def test_upper_case_ipc_file_loads_lower_cased():
+    m = read_model(DATA / "upper-domain.pddl", DATA / "upper-problem.pddl")
+    assert m.domain_name == "blocks" and m.problem_name == "blocks-3-0"
+    assert set(m.schemas) == {"pick-up", "put-down", "stack", "unstack"}
+    assert m.objects == {"a", "b", "c"}
+    assert ("on", "c", "a") in m.init and ("handempty",) in m.init
+    assert m.schemas["stack"].params == ("?x", "?y")
+    assert m.goal == {("on", "a", "b"), ("on", "b", "c")}
+
+
+def test_undeclared_supertype_and_object_parent():
+    dom = """(define (domain d) (:requirements :typing)
+      (:types truck - vehicle place - object)
+      (:predicates (at ?v ?p))
+      (:action go :parameters (?v - vehicle ?p - place) :precondition (and) :effect (at ?v ?p)))"""
+    prob = """(define (problem p) (:domain d) (:objects t - truck x - place)
+      (:init) (:goal (and (at t x))))"""
+    m = parse_model(dom, prob)
+    assert m.type_predicates == {"truck", "vehicle", "place"}
+    assert m.init == {("truck", "t"), ("vehicle", "t"), ("place", "x")}
+    assert m.schemas["go"].pre == {("vehicle", "?v"), ("place", "?p")}
+
+
+def test_adl_flag_accepted_when_no_unsupported_construct_is_used():
+    dom = BASE_DOMAIN.read_text().replace(":negative-preconditions", ":adl :equality")
+    m = parse_model(dom, BASE_PROBLEM.read_text())
+    assert m.schemas["a"].negpre == {("q", "?y")}
+
+
+def test_negative_initial_literals_are_ignored_and_total_cost_zero_ignored():
+    prob = BASE_PROBLEM.read_text().replace("(:init", "(:init (not (q o2))")
+    m = parse_model(BASE_DOMAIN.read_text(), prob)
+    assert m.init == {("p", "o1"), ("r", "o1", "o2")}
+
+
+@pytest.mark.parametrize(
+    ("name", "construct", "line"),
+    [
+        ("when", "conditional effect 'when'", 8),
+        ("forall-effect", "universal effect 'forall'", 8),
+        ("forall", "universal quantifier 'forall'", 7),
+        ("exists", "existential quantifier 'exists'", 7),
+        ("or", "disjunction 'or'", 7),
+        ("imply", "implication 'imply'", 7),
+        ("not-and", "negation of a compound condition", 7),
+        ("equality", "equality '(= ...)'", 7),
+        ("comparison", "numeric comparison '>'", 7),
+        ("decrease", "numeric effect 'decrease'", 8),
+        ("assign", "numeric effect 'assign'", 8),
+        ("increase-fluent", "numeric effect 'increase' of '(fuel ...)'", 8),
+        ("either", "'either' type", 6),
+        ("derived", "derived predicates (:derived)", 4),
+        ("durative-action", "durative actions (:durative-action)", 4),
+        ("durative-requirement", "requirement :durative-actions", 3),
+        ("cost-expression", "cost expression '(+ ...)'", 9),
+        ("fractional-cost", "action cost '2.5'", 8),
+        ("object-fluent", "object fluents", 5),
+    ],
+)
+def test_unsupported_domain_constructs(name, construct, line):
+    path = DATA / "unsupported" / f"{name}.pddl"
+    e = _error(path, BASE_PROBLEM)
+    assert f"{path}: line {line}: " in str(e)
+    assert construct in str(e) and "not supported" in str(e)
+
+
+@pytest.mark.parametrize(
+    ("name", "construct", "line"),
+    [
+        ("negative-goal", "negative goal 'not'", 7),
+        ("or-goal", "non-conjunctive goal (disjunction 'or')", 6),
+        ("metric", "metric other than 'minimize (total-cost)'", 7),
+        ("timed-literal", "timed initial literal", 6),
+        ("constraints", "(:constraints)", 7),
+    ],
+)
+def test_unsupported_problem_constructs(name, construct, line):
+    path = DATA / "unsupported" / f"{name}.pddl"
+    e = _error(BASE_DOMAIN, path)
+    assert str(e).startswith(f"error: {path}: line {line}: ")
+    assert construct in str(e) and "not supported" in str(e)
+
+
+@pytest.mark.parametrize(
+    ("name", "message", "line"),
+    [
+        ("unbalanced", "'(' is never closed", 1),
+        ("extra-paren", "unexpected text after the end of '(define ...)'", 4),
+        ("undefined-predicate", "undefined predicate 's' in the precondition of action 'a'", 7),
+        ("domain-arity", "predicate 'r' takes 2 argument(s), got 1", 8),
+        ("undefined-type", "undefined type 'city' in the parameters of action 'a'", 6),
+        ("undefined-variable", "undefined variable '?y' in the effect of action 'a'", 7),
+        ("type-predicate-collision", "'p' is both a type and a predicate", 5),
+        ("cost-without-requirement", "needs the requirement :action-costs", 8),
+        ("syntax", "syntax error: unexpected ':effect'", 8),
+    ],
+)
+def test_malformed_domains(name, message, line):
+    path = DATA / "malformed" / f"{name}.pddl"
+    e = _error(path, BASE_PROBLEM)
+    assert str(e).startswith(f"error: {path}: line {line}: ") and message in str(e)
+
+
+@pytest.mark.parametrize(
+    ("name", "message", "line"),
+    [
+        ("undefined-object", "undefined object 'o3' in :init", 5),
+        ("problem-arity", "predicate 'q' takes 1 argument(s), got 2 in :goal", 6),
+        ("problem-undefined-predicate", "undefined predicate 's' in :goal", 6),
+        ("goal-variable", "variable '?x' in :goal", 6),
+        ("bad-name-problem", "syntax error: unexpected '2'", 4),  # reported by lark
+    ],
+)
+def test_malformed_problems(name, message, line):
+    path = DATA / "malformed" / f"{name}.pddl"
+    e = _error(BASE_DOMAIN, path)
+    assert str(e) == f"error: {path}: line {line}: {message}"
+
+
+def test_library_errors_leave_the_parser_usable():
+    _error(DATA / "malformed" / "syntax.pddl", BASE_PROBLEM)
+    _error(BASE_DOMAIN, DATA / "malformed" / "bad-name-problem.pddl")
+    m = read_model(DATA / "typed-domain.pddl", DATA / "typed-problem.pddl")
+    assert "depot" in m.objects
+    # a later domain without :constants must not see the earlier one's constants
+    dom = BASE_DOMAIN.read_text().replace("(q ?x) (not", "(q depot) (not")
+    with pytest.raises(PDDLError, match="undefined constant 'depot'"):
+        parse_model(dom, BASE_PROBLEM.read_text())
+
+
+def test_missing_file_is_named(tmp_path):
+    missing = tmp_path / "nope.pddl"
+    with pytest.raises(PDDLError) as info:
+        read_model(BASE_DOMAIN, missing)
+    assert str(info.value) == f"error: {missing}: problem file not found"
+    with pytest.raises(PDDLError, match="domain file is a directory"):
+        read_model(tmp_path, BASE_PROBLEM)
+
+
+def test_problem_given_as_domain():
+    e = _error(BASE_PROBLEM, BASE_PROBLEM)
+    assert "this is a problem file, expected a domain file" in str(e)
+    assert f"{BASE_PROBLEM}: line 2:" in str(e)
+
+
+@pytest.mark.parametrize(
+    ("dom_edit", "prob_edit", "message"),
+    [
+        ((":negative-preconditions", ":foo"), None, "unknown requirement ':foo'"),
+        (("(:action a", "(:action a :parameters (?x) :effect (q ?x)) (:action a"), None,
+         "action 'a' is defined twice"),
+        (None, ("(:objects o1 o2)", "(:objects o1 o2) (:bogus)"), "unknown problem section"),
+        (None, ("(:init", "(:init (= (q o1) 3)"), "undefined function 'q'"),
+        (None, ("(:goal (and (q o1)))", "(:goal (and (q o1))) (:metric minimize (total-cost))"),
+         "the metric uses (total-cost), which the domain does not declare"),
+        (None, ("(:goal (and (q o1)))", ""), "missing (:goal ...)"),
+    ],
+)  # fmt: skip
+def test_other_checks(dom_edit, prob_edit, message):
+    dom, prob = BASE_DOMAIN.read_text(), BASE_PROBLEM.read_text()
+    if dom_edit:
+        dom = dom.replace(*dom_edit)
+    if prob_edit:
+        prob = prob.replace(*prob_edit)
+    with pytest.raises(PDDLError) as info:
+        parse_model(dom, prob, domain_path="d.pddl", problem_path="p.pddl")
+    assert message in str(info.value)
+    assert "\n" not in str(info.value)
+
+
+def test_object_declared_with_two_types():
+    dom = (DATA / "typed-domain.pddl").read_text()
+    prob = (DATA / "typed-problem.pddl").read_text().replace("thing)", "thing depot - package)")
+    with pytest.raises(PDDLError, match="object 'depot' is declared with two types"):
+        parse_model(dom, prob)
+
+
+def test_cost_function_values_must_be_non_negative_integers():
+    dom = (DATA / "cost-domain.pddl").read_text()
+    prob = (DATA / "cost-problem.pddl").read_text().replace("a b) 3)", "a b) 3.5)")
+    with pytest.raises(PDDLError, match=r"line 6: cost function value 3\.5"):
+        parse_model(dom, prob)
+
+
+def test_omitted_action_parts_empty_sections_and_crlf():
+    dom = (
+        "(define (domain d)\r\n (:requirements :strips) (:types) (:constants)\r\n"
+        " (:predicates (p ?x) (q))\r\n"
+        " (:action no-params :effect (q))\r\n"
+        " (:action no-pre :parameters (?x) :effect (not (p ?x)))\r\n"
+        " (:action no-effect :parameters (?x) :precondition (p ?x)))\r\n"
+    )
+    prob = "(define (problem p) (:domain d) (:objects o) (:init (p o)) (:goal (q)))"
+    m = parse_model(dom, prob)
+    assert m.schemas["no-params"].params == () and m.schemas["no-params"].add == {("q",)}
+    assert m.schemas["no-pre"].pre == frozenset() and m.schemas["no-pre"].delete == {("p", "?x")}
+    assert m.schemas["no-effect"].pre == {("p", "?x")} and m.schemas["no-effect"].add == set()
+    with pytest.raises(PDDLError, match=r"^error: d\.pddl: line 5: undefined predicate 'r'"):
+        parse_model(dom.replace("(not (p ?x))", "(r ?x)"), prob, domain_path="d.pddl")
