@@ -29,7 +29,7 @@ INIT, GOAL, SCHEMA, PRE, NEGPRE, ADD, DEL, COST, FVALUE = (
 KIND_ORDER = {k: i for i, k in enumerate((INIT, GOAL, SCHEMA, PRE, NEGPRE, ADD, DEL, COST, FVALUE))}
 
 
-def _cost_str(cost: int | CostTerm) -> str:
+def cost_str(cost: int | CostTerm) -> str:
     return str(cost) if isinstance(cost, int) else "(" + " ".join(cost) + ")"
 
 
@@ -103,7 +103,7 @@ def schema_features(s: Schema) -> set[Feature]:
     out = {Feature(SCHEMA, s.name, s.params)}
     for kind, atoms in ((PRE, s.pre), (NEGPRE, s.negpre), (ADD, s.add), (DEL, s.delete)):
         out.update(Feature(kind, s.name, a) for a in atoms)
-    out.add(Feature(COST, s.name, (_cost_str(s.cost),)))
+    out.add(Feature(COST, s.name, (cost_str(s.cost),)))
     return out
 
 
@@ -135,7 +135,9 @@ def model_difference(robot: Model, human: Model) -> tuple[Update, ...]:
             continue  # replaced by the robot's value (added above), or a human-only schema's own
 
         ups.append(Update(f, False))
-    ups.sort(key=lambda u: (u.feature.sort_key(), not u.robot_has))
+    # kind, then additions before removals (the paper prints adds first), then name
+    ups.sort(key=lambda u: (KIND_ORDER[u.feature.kind], not u.robot_has, u.feature.action,
+                            u.feature.atom))
     return tuple(ups)
 
 

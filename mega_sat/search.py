@@ -1,0 +1,263 @@
+"""Built-in optimal classical planner: explicit-state A* on a :class:`GroundTask`.
+
+This is the per-node planner of the A* MEGA baseline and the independent optimal planner used by
+verification, so it must be exactly optimal (also with zero-cost actions) and deterministic.
+
+* States are ``int`` bitmasks over atom ids; applicability is two mask tests.
+* Heuristics: ``lmcut`` (Helmert & Domshlak 2009, admissible), ``hmax`` and ``blind``.  Both
+  relaxation heuristics ignore delete effects and negative preconditions, which only makes the
+  relaxation weaker, so they stay admissible.  LM-cut is not consistent, so closed states are
+  reopened when a cheaper path is found.
+* Tie-breaking is deterministic: lower ``f``, then lower ``h``, then first generated (FIFO).
+* ``unsolvable`` is returned only when the search space is exhausted or the goal is
+  relaxed-unreachable from the initial state.
+"""
+
+from __future__ import annotations
+
+import heapq
+import time
+from dataclasses import dataclass
+
+from mega_sat.family import GroundTask, PlanStep
+
+HEURISTICS = ("lmcut", "hmax", "blind")
+_INF = float("inf")
+
+
+@dataclass(frozen=True)
+class PlanResult:
+    """Outcome of one optimal planning call.
+
+    ``status`` is ``optimal`` (``plan``/``cost`` set), ``unsolvable`` (proven) or ``timeout``
+    (time or node limit reached, nothing proven).
+    """
+
+    status: str
+    plan: tuple[PlanStep, ...] | None
+    cost: int | None
+    expanded: int
+    time_s: float
+    planner: str
+
+
+def _bits(s: int) -> list[int]:
+    out = []
+    while s:
+        low = s & -s
+        out.append(low.bit_length() - 1)
+        s ^= low
+    return out
+
+
+class RelaxedTask:
+    """The delete-relaxation of a ground task with the usual LM-cut normalisation: an
+    artificial atom ``true`` (precondition of actions without preconditions) and an
+    artificial goal action (precondition = goal, adds ``goal``, cost 0)."""
+
+    def __init__(self, task: GroundTask):
+        n = len(task.atoms)
+        self.true_atom, self.goal_atom = n, n + 1
+        self.n_atoms = n + 2
+        pres: list[tuple[int, ...]] = []
+        adds: list[tuple[int, ...]] = []
+        costs: list[int] = []
+        for a in task.actions:
+            pres.append(tuple(sorted(a.pre)) or (self.true_atom,))
+            adds.append(tuple(sorted(a.add)))
+            costs.append(a.cost)
+        pres.append(tuple(sorted(task.goal)) or (self.true_atom,))
+        adds.append((self.goal_atom,))
+        costs.append(0)
+        self.pres, self.adds, self.costs = pres, adds, costs
+        self.n_pre = [len(p) for p in pres]
+        self.pre_of: list[list[int]] = [[] for _ in range(self.n_atoms)]
+        self.achievers: list[list[int]] = [[] for _ in range(self.n_atoms)]
+        for j, (p, ad) in enumerate(zip(pres, adds, strict=True)):
+            for q in p:
+                self.pre_of[q].append(j)
+            for q in ad:
+                self.achievers[q].append(j)
+
+    def hmax(self, state: list[int], costs: list[int]) -> tuple[list[float], list[int]]:
+        """h^max of every atom from ``state`` and the precondition choice function (the
+        precondition reached last, i.e. one with maximal h^max; -1 if unreachable)."""
+        h: list[float] = [_INF] * self.n_atoms
+        done = [False] * self.n_atoms
+        left = self.n_pre[:]
+        pcf = [-1] * len(self.pres)
+        heap = [(0, p) for p in state]
+        heap.append((0, self.true_atom))
+        for _, p in heap:
+            h[p] = 0
+        heapq.heapify(heap)
+        pre_of, adds = self.pre_of, self.adds
+        goal = self.goal_atom
+        while heap:
+            d, p = heapq.heappop(heap)
+            if done[p]:
+                continue
+            done[p] = True
+            if p == goal:
+                break
+            for j in pre_of[p]:
+                left[j] -= 1
+                if left[j] == 0:
+                    pcf[j] = p
+                    c = d + costs[j]
+                    for q in adds[j]:
+                        if c < h[q]:
+                            h[q] = c
+                            heapq.heappush(heap, (c, q))
+        return h, pcf
+
+    def h_max(self, state: list[int]) -> float:
+        return self.hmax(state, self.costs)[0][self.goal_atom]
+
+    def lmcut(self, state: list[int]) -> float:
+        """LM-cut: repeatedly find a cut between the initial atoms and the zero-cost goal zone
+        of the justification graph, add its minimum cost and reduce it to zero."""
+        costs = self.costs[:]
+        total = 0
+        goal, n = self.goal_atom, self.n_atoms
+        pre_of, adds, achievers = self.pre_of, self.adds, self.achievers
+        while True:
+            h, pcf = self.hmax(state, costs)
+            if h[goal] == _INF:
+                return _INF
+            if h[goal] == 0:
+                return total
+            zone = [False] * n
+            zone[goal] = True
+            stack = [goal]
+            while stack:
+                q = stack.pop()
+                for j in achievers[q]:
+                    p = pcf[j]
+                    if p >= 0 and costs[j] == 0 and not zone[p]:
+                        zone[p] = True
+                        stack.append(p)
+            reached = [False] * n
+            stack = [self.true_atom, *state]
+            for p in stack:
+                reached[p] = True
+            cut: list[int] = []
+            while stack:
+                p = stack.pop()
+                for j in pre_of[p]:
+                    if pcf[j] != p:
+                        continue
+                    in_cut = False
+                    for q in adds[j]:
+                        if zone[q]:
+                            in_cut = True
+                        elif not reached[q]:
+                            reached[q] = True
+                            stack.append(q)
+                    if in_cut:
+                        cut.append(j)
+            m = min(costs[j] for j in cut)
+            assert m > 0, "LM-cut found a zero-cost cut"
+            total += m
+            for j in cut:
+                costs[j] -= m
+
+
+def _successor_groups(task: GroundTask) -> list[tuple[int, list[tuple]]]:
+    """Actions grouped by one of their preconditions (the least shared one), so a state only
+    tests actions whose key atom is true.  Group bit 0 means "always test"."""
+    count: dict[int, int] = {}
+    for a in task.actions:
+        for p in a.pre:
+            count[p] = count.get(p, 0) + 1
+    groups: dict[int, list[tuple]] = {}
+    for j, a in enumerate(task.actions):
+        key = min(a.pre, key=lambda p: (count[p], p)) if a.pre else -1
+        pre = sum(1 << p for p in a.pre)
+        neg = sum(1 << p for p in a.negpre)
+        add = sum(1 << p for p in a.add)
+        dl = sum(1 << p for p in a.delete)
+        groups.setdefault(key, []).append((j, pre, neg, ~dl, add, a.cost))
+    return [(0 if k < 0 else 1 << k, acts) for k, acts in sorted(groups.items())]
+
+
+def astar(
+    task: GroundTask,
+    *,
+    heuristic: str = "lmcut",
+    time_limit: float | None = None,
+    node_limit: int | None = None,
+) -> PlanResult:
+    """Optimal plan of ``task`` by A* with reopening."""
+    if heuristic not in HEURISTICS:
+        raise ValueError(f"unknown heuristic {heuristic!r} (choose from {', '.join(HEURISTICS)})")
+    t0 = time.perf_counter()
+    planner = f"builtin-astar({heuristic})"
+    goal = sum(1 << p for p in task.goal)
+    init = sum(1 << p for p in task.init)
+    min_cost = min((a.cost for a in task.actions), default=0)
+
+    if heuristic == "blind":
+
+        def h_of(s: int) -> float:
+            return 0 if s & goal == goal else min_cost
+    else:
+        relaxed = RelaxedTask(task)
+        fn = relaxed.lmcut if heuristic == "lmcut" else relaxed.h_max
+
+        def h_of(s: int) -> float:
+            return fn(_bits(s))
+
+    def result(status: str, plan=None, cost=None) -> PlanResult:
+        return PlanResult(status, plan, cost, expanded, time.perf_counter() - t0, planner)
+
+    expanded = 0
+    h0 = h_of(init)
+    if h0 == _INF:
+        return result("unsolvable")
+    groups = _successor_groups(task)
+    actions = task.actions
+    best_g: dict[int, int] = {init: 0}
+    parent: dict[int, tuple[int, int] | None] = {init: None}
+    h_cache: dict[int, float] = {init: h0}
+    counter = 0
+    open_list: list[tuple] = [(h0, h0, counter, 0, init)]
+    deadline = None if time_limit is None else t0 + time_limit
+    while open_list:
+        _, _, _, g, s = heapq.heappop(open_list)
+        if g > best_g[s]:
+            continue
+        if s & goal == goal:
+            steps = []
+            cur = s
+            while parent[cur] is not None:
+                prev, j = parent[cur]  # type: ignore[misc]
+                steps.append(actions[j].step)
+                cur = prev
+            return result("optimal", tuple(reversed(steps)), g)
+        if node_limit is not None and expanded >= node_limit:
+            return result("timeout")
+        if deadline is not None and expanded % 32 == 0 and time.perf_counter() > deadline:
+            return result("timeout")
+        expanded += 1
+        for bit, acts in groups:
+            if bit and not s & bit:
+                continue
+            for j, pre, neg, keep, add, c in acts:
+                if s & pre != pre or s & neg:
+                    continue
+                s2 = (s & keep) | add
+                g2 = g + c
+                old = best_g.get(s2)
+                if old is not None and g2 >= old:
+                    continue
+                h2 = h_cache.get(s2)
+                if h2 is None:
+                    h2 = h_cache[s2] = h_of(s2)
+                if h2 == _INF:
+                    continue
+                best_g[s2] = g2
+                parent[s2] = (s, j)
+                counter += 1
+                heapq.heappush(open_list, (g2 + h2, h2, counter, g2, s2))
+    return result("unsolvable")

@@ -1,0 +1,50 @@
+"""VAL wrapper: verdicts on hand-written PDDL, and agreement with the simulator."""
+
+from __future__ import annotations
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from randomtasks import models, plans
+
+from mega_sat.simulate import simulate
+from mega_sat.val import val_available, val_validate
+
+pytestmark = pytest.mark.skipif(not val_available(), reason="VAL not installed")
+
+DOMAIN = """(define (domain t) (:requirements :strips :action-costs)
+ (:predicates (at ?x) (conn ?x ?y))
+ (:functions (total-cost) - number)
+ (:action move :parameters (?x ?y) :precondition (and (at ?x) (conn ?x ?y))
+  :effect (and (not (at ?x)) (at ?y) (increase (total-cost) 2))))
+"""
+PROBLEM = """(define (problem p) (:domain t) (:objects a b c)
+ (:init (at a) (conn a b) (conn b c) (= (total-cost) 0))
+ (:goal (at c)) (:metric minimize (total-cost)))
+"""
+
+
+def test_verdicts():
+    r = val_validate(DOMAIN, PROBLEM, [("move", "a", "b"), ("move", "b", "c")])
+    assert r.valid and r.cost == 4
+    r = val_validate(DOMAIN, PROBLEM, [("move", "a", "b"), ("move", "a", "c")])
+    assert not r.valid and r.cost is None
+    assert r.message == "unsatisfied precondition at step 2: (move a c)"
+    r = val_validate(DOMAIN, PROBLEM, [("move", "a", "b")])
+    assert not r.valid and r.message == "goal not satisfied"
+    r = val_validate(DOMAIN, PROBLEM, [("fly", "a")])
+    assert not r.valid and "fly" in r.message
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(data=st.data())
+def test_val_agrees_with_simulate(data):
+    from mega_sat.pddl_writer import domain_to_pddl, problem_to_pddl
+
+    model = data.draw(models(allow_zero_cost=True))
+    # VAL ignores surplus arguments, so malformed steps are the simulator's business only
+    plan = data.draw(plans(model, max_len=5, malformed=False))
+    sim = simulate(model, plan)
+    val = val_validate(domain_to_pddl(model), problem_to_pddl(model), plan)
+    assert val.valid == sim.valid, (sim.reason, val.message)
+    assert val.cost == sim.cost
