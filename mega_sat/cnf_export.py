@@ -1,0 +1,152 @@
+"""DIMACS export of the OPT and JOINT formulas, for external SAT and MaxSAT solvers.
+
+The exported formula is the oracles' encoding (:mod:`mega_sat.sat_encoding`) at the horizon
+that makes the bound exact (``floor(bound / c_min)`` steps), with the candidate model, the goal
+activation and the cost bounds as unit clauses instead of assumptions.  So:
+
+* ``<kind>.cnf`` is satisfiable iff a plan (OPT) or joint plan (JOINT) within the bounds exists;
+* ``<kind>.wcnf`` drops the cost bound of the minimized copy (human for OPT, robot for JOINT)
+  and adds one soft unit clause ``-u`` per cost unit, weighted by the cost unit: its MaxSAT
+  optimum is the optimal cost (as long as ``bound`` is at least the optimum);
+* ``<kind>.vars.json`` maps variables to meanings (``a[3]=(move p1 p2)``,
+  ``x[human][2](at p1)``, ``e[5]=add-has-initial-state-...``, ``u[human][4][2]``) plus the
+  horizon, bounds and whether the horizon argument is exact (it is not with zero-cost actions).
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Iterable, Sequence
+from pathlib import Path
+
+from pysat.formula import CNF, WCNF
+
+from mega_sat.family import GroundFamily
+from mega_sat.sat_encoding import HUMAN, ROBOT, FamilyEncoding
+
+
+def _horizon(family: GroundFamily, bound: int) -> tuple[int, bool]:
+    if family.min_cost <= 0:
+        return max(bound, 0), False
+    return max(bound, 0) // family.min_cost, True
+
+
+def _write(
+    enc: FamilyEncoding,
+    clauses: list[list[int]],
+    units: list[int],
+    soft: list[int],
+    weight: int,
+    meta: dict,
+    out_dir: Path,
+    kind: str,
+    update_names: Sequence[str] | None,
+) -> dict[str, Path]:
+    out_dir.mkdir(parents=True, exist_ok=True)
+    comments = [
+        f"c mega-sat {kind} formula: {enc.family.describe()}",
+        f"c horizon {enc.horizon}, exact horizon: {meta['exact']}",
+        f"c variable meanings in {kind}.vars.json",
+    ]
+    cnf = CNF(from_clauses=clauses + [[u] for u in units])
+    paths = {
+        "cnf": out_dir / f"{kind}.cnf",
+        "wcnf": out_dir / f"{kind}.wcnf",
+        "vars": out_dir / f"{kind}.vars.json",
+    }
+    cnf.to_file(str(paths["cnf"]), comments=comments)
+    wcnf = WCNF()
+    for c in clauses:
+        wcnf.append(c)
+    for u in units[: meta["n_hard_units_wcnf"]]:
+        wcnf.append([u])
+    for v in soft:
+        wcnf.append([-v], weight=weight)
+    wcnf.to_file(str(paths["wcnf"]), comments=comments)
+    names = enc.var_map()
+    if update_names is not None:
+        for i, name in enumerate(update_names):
+            names[enc.e(i)] = f"e[{i}]={name}"
+    meta = {k: v for k, v in meta.items() if k != "n_hard_units_wcnf"}
+    meta["variables"] = {str(k): v for k, v in sorted(names.items())}
+    paths["vars"].write_text(json.dumps(meta, indent=1) + "\n")
+    return paths
+
+
+def export(
+    family: GroundFamily,
+    selection: Iterable[int],
+    kind: str,
+    out_dir: str | Path,
+    *,
+    robot_bound: int | None = None,
+    human_bound: int | None = None,
+    update_names: Sequence[str] | None = None,
+) -> dict[str, Path]:
+    """Write ``<kind>.cnf``, ``<kind>.wcnf`` and ``<kind>.vars.json`` into ``out_dir``.
+
+    ``kind="opt"``: plans of ``human + selection`` with cost <= ``human_bound`` (default: the
+    optimum, computed with the OPT oracle).  ``kind="joint"``: JOINT with both bounds
+    (``human_bound`` defaults to the optimum of ``human + selection``).  Returns the paths.
+    """
+    sel = frozenset(selection)
+    if kind not in ("opt", "joint"):
+        raise ValueError(f"kind must be 'opt' or 'joint', not {kind!r}")
+    if human_bound is None:
+        from mega_sat.oracles import SatOracles
+
+        with SatOracles(family) as orc:
+            r = orc.opt(sel)
+        if r.status != "optimal":
+            raise ValueError(f"human + E has no plan ({r.status}: {r.reason}); give a bound")
+        human_bound = r.cost
+    if human_bound < 0 or (robot_bound is not None and robot_bound < 0):
+        raise ValueError("bounds must be >= 0")
+    bound = human_bound if (kind == "opt" or robot_bound is None) else min(human_bound, robot_bound)
+    h, exact = _horizon(family, bound)
+    clauses: list[list[int]] = []
+    copies = (HUMAN,) if kind == "opt" else (HUMAN, ROBOT)
+    enc = FamilyEncoding(family, clauses.append, copies=copies)
+    enc.extend(h)
+    hard = enc.selection_assumptions(sel)
+    minimized = HUMAN if kind == "opt" else ROBOT
+    other = [] if kind == "opt" else enc.cost_assumptions(HUMAN, human_bound, h)
+    own = enc.cost_assumptions(minimized, human_bound if kind == "opt" else robot_bound, h)
+    hard += enc.goal_assumptions(h) + other
+    # soft units: every cost unit of the minimized copy, worth one cost unit each
+    soft = [enc.u(minimized, t, k) for t in range(h) for k in range(1, enc.max_units + 1)]
+    meta = {
+        "kind": kind,
+        "selection": sorted(sel),
+        "horizon": h,
+        "exact": exact,
+        "human_bound": human_bound,
+        "robot_bound": robot_bound,
+        "cost_unit": enc.cost_unit,
+        "vars": enc.top,
+        "n_hard_units_wcnf": len(hard),
+    }
+    return _write(
+        enc, clauses, hard + own, soft, enc.cost_unit, meta, Path(out_dir), kind, update_names
+    )
+
+
+def export_opt(
+    family: GroundFamily, selection: Iterable[int], bound: int | None, out_dir: str | Path, **kw
+) -> dict[str, Path]:
+    """OPT formula of ``human + selection`` with cost <= ``bound`` (see :func:`export`)."""
+    return export(family, selection, "opt", out_dir, human_bound=bound, **kw)
+
+
+def export_joint(
+    family: GroundFamily,
+    selection: Iterable[int],
+    robot_bound: int | None,
+    human_bound: int | None,
+    out_dir: str | Path,
+    **kw,
+) -> dict[str, Path]:
+    """JOINT formula (see :func:`export`)."""
+    return export(
+        family, selection, "joint", out_dir, robot_bound=robot_bound, human_bound=human_bound, **kw
+    )

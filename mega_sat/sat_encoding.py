@@ -1,0 +1,467 @@
+"""Sequential SAT encoding of a whole model family (``encodings/sequential.md`` explains it).
+
+One :class:`FamilyEncoding` covers every model ``human + E`` of a :class:`GroundFamily` at once:
+components that depend on an update are guarded by the selector variable ``e_i`` (variable
+``i + 1``), so a candidate model is a set of assumptions and the encoding is built once per
+task.  It has one or two *state copies* that share the action variables:
+
+* ``human``: guards are selector literals (the model ``human + E`` for the assumed ``E``);
+* ``robot``: guards are constants (every update selected: the robot model).
+
+At most one action runs per step (a step without an action is a no-op); with symmetry breaking
+no-op steps only come at the end.  The horizon grows with :meth:`FamilyEncoding.extend`; goals
+are switched on per horizon by an activation literal, and cost bounds are assumptions on an
+incremental totalizer over unary cost units.  Clauses go to a *sink* (a live SAT solver or a
+CNF being written), so the same code serves the oracles and the DIMACS export.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass
+
+from pysat.card import ITotalizer
+
+from mega_sat.family import GroundFamily, Guard, GuardLit, PlanStep, step_str
+
+HUMAN = "human"
+ROBOT = "robot"
+
+# Template literal kinds: e variable, action at t, state at t, state at t+1, cost unit at t.
+_E, _A, _X0, _X1, _U = range(5)
+
+Lit = tuple[int, int, int]
+"""A template literal ``(kind, offset >= 1, sign)``; resolved per step by layer bases."""
+
+Sink = Callable[[list[int]], None]
+
+
+@dataclass(frozen=True)
+class EncodingSize:
+    """Size of the formula so far (for stats and export headers)."""
+
+    variables: int
+    clauses: int
+    horizon: int
+
+
+class FamilyEncoding:
+    """Bounded-horizon sequential encoding of ``family`` with one or two state copies.
+
+    ``sink`` receives every clause (``Solver.add_clause`` or ``CNF.append``).  Variables are
+    numbered from 1: first the ``n_updates`` selector variables, then everything else in order
+    of creation (``self.top`` is the largest used).
+    """
+
+    def __init__(
+        self,
+        family: GroundFamily,
+        sink: Sink,
+        *,
+        copies: Sequence[str] = (HUMAN,),
+        symmetry_breaking: bool = True,
+        partial_order: bool = False,
+    ):
+        if (
+            not copies
+            or any(c not in (HUMAN, ROBOT) for c in copies)
+            or len(set(copies)) != len(copies)
+        ):
+            raise ValueError(f"copies must be distinct names among {HUMAN!r}, {ROBOT!r}")
+        self.family = family
+        self.copies = tuple(copies)
+        self.symmetry_breaking = symmetry_breaking
+        self._sink = sink
+        self.n_clauses = 0
+        self.top = family.n_updates
+        self.n_actions = len(family.actions)
+        self.n_atoms = len(family.atoms)
+        values = [v for a in family.actions for _, v in a.cost]
+        if any(v < 0 for v in values):
+            raise ValueError("negative action costs are not supported")
+        # Costs are counted in units of their gcd: fewer units, same "cost <= B" answers.
+        self.cost_unit = math.gcd(*values) if any(values) else 1
+        self.max_units = max(values, default=0) // self.cost_unit
+        # Per-step layer bases (variable = base + offset, offsets start at 1).
+        self.a_base: list[int] = []
+        self.act: list[int] = []  # act[t]: some action runs at step t
+        self.x_base: dict[str, list[int]] = {c: [] for c in self.copies}
+        self.u_base: dict[str, list[int]] = {c: [] for c in self.copies}
+        self.goal_act: dict[int, int] = {}
+        self._tot: dict[str, ITotalizer | None] = {c: None for c in self.copies}
+        self._templates = {c: self._step_template(c) for c in self.copies}
+        self.prefix: list[list[int]] = []
+        self.roles: list[dict[tuple[str, int], int]] = []
+        self.partial_order = partial_order and symmetry_breaking
+        if self.partial_order:
+            self._prepare_ordering()
+        for c in self.copies:
+            self.x_base[c].append(self._alloc(self.n_atoms))
+            self._init_clauses(c)
+
+    # ----------------------------------------------------------------- basics
+    def _alloc(self, n: int) -> int:
+        """Reserve ``n`` fresh variables; return the base (first variable is base + 1)."""
+        base = self.top
+        self.top += n
+        return base
+
+    def _emit(self, clause: list[int]) -> None:
+        self._sink(clause)
+        self.n_clauses += 1
+
+    @property
+    def horizon(self) -> int:
+        return len(self.a_base)
+
+    def size(self) -> EncodingSize:
+        return EncodingSize(self.top, self.n_clauses, self.horizon)
+
+    def e(self, i: int) -> int:
+        """Selector variable of update ``i``."""
+        return i + 1
+
+    def guard_lit(self, g: GuardLit) -> int:
+        return self.e(g[0]) if g[1] else -self.e(g[0])
+
+    def selection_assumptions(self, selection: Iterable[int]) -> list[int]:
+        """Literals fixing every selector to ``selection`` (the model ``human + E``)."""
+        sel = frozenset(selection)
+        return [self.e(i) if i in sel else -self.e(i) for i in range(self.family.n_updates)]
+
+    def lits_assumptions(self, lits: Iterable[GuardLit]) -> list[int]:
+        return [self.guard_lit(g) for g in lits]
+
+    def a(self, t: int, j: int) -> int:
+        return self.a_base[t] + j + 1
+
+    def x(self, copy: str, t: int, p: int) -> int:
+        return self.x_base[copy][t] + p + 1
+
+    def u(self, copy: str, t: int, k: int) -> int:
+        """Cost unit ``k`` (1-based) of step ``t``: "step t costs at least k units"."""
+        return self.u_base[copy][t] + k
+
+    # ------------------------------------------------------ guard evaluation
+    def _guard(self, copy: str, g: Guard) -> bool | Lit:
+        """A guard as a constant (robot copy, or no guard) or a template literal on ``e``."""
+        if g is None:
+            return True
+        if copy == ROBOT:
+            return g[1]  # the robot model selects every update: (i in all) == v  <=>  v
+        return (_E, g[0] + 1, 1 if g[1] else -1)
+
+    @staticmethod
+    def _neg(g: bool | Lit) -> bool | Lit:
+        if isinstance(g, bool):
+            return not g
+        return (g[0], g[1], -g[2])
+
+    @staticmethod
+    def _clause(parts: Iterable[bool | Lit]) -> list[Lit] | None:
+        """A disjunction of constants and literals: ``None`` if it is always true."""
+        out: list[Lit] = []
+        for p in parts:
+            if p is True:
+                return None
+            if p is False:
+                continue
+            out.append(p)
+        return out
+
+    # -------------------------------------------------------------- templates
+    def _step_template(self, copy: str) -> list[list[Lit]]:
+        """Every clause of one step of one copy, with literals relative to the step's layers."""
+        cl: list[list[Lit]] = []
+
+        def put(parts: Iterable[bool | Lit]) -> None:
+            c = self._clause(parts)
+            if c is not None:
+                cl.append(c)
+
+        adders: dict[int, list[tuple[int, list[bool | Lit]]]] = {}
+        deleters: dict[int, list[tuple[int, list[bool | Lit]]]] = {}
+        for j, act in enumerate(self.family.actions):
+            na = (_A, j + 1, -1)
+            ex = self._guard(copy, act.exists)
+            if ex is False:
+                cl.append([na])  # the action does not exist in this copy's model
+                continue
+            put([na, ex])
+            for p, g in act.pre:
+                put([na, self._neg(self._guard(copy, g)), (_X0, p + 1, 1)])
+            for p, g in act.negpre:
+                put([na, self._neg(self._guard(copy, g)), (_X0, p + 1, -1)])
+            adds: dict[int, list[bool | Lit]] = {}
+            for p, g in act.add:
+                adds.setdefault(p, []).append(self._guard(copy, g))
+            dels: dict[int, list[bool | Lit]] = {}
+            for p, g in act.delete:
+                dels.setdefault(p, []).append(self._guard(copy, g))
+            for p, gs in adds.items():
+                for g in gs:
+                    put([na, self._neg(g), (_X1, p + 1, 1)])
+                if any(g is not False for g in gs):
+                    adders.setdefault(p, []).append((j, gs))
+            for p, gs in dels.items():
+                add_gs = adds.get(p, [])
+                # delete-then-add: the delete takes effect only if no add of p is active
+                for g in gs:
+                    put([na, self._neg(g), *add_gs, (_X1, p + 1, -1)])
+                if any(g is not False for g in gs):
+                    deleters.setdefault(p, []).append((j, gs))
+            for guards, value in act.cost:
+                k = value // self.cost_unit
+                if k > 0:
+                    put([na, *(self._neg(self._guard(copy, g)) for g in guards), (_U, k, 1)])
+        # explanatory frame axioms (exact because at most one action runs per step)
+        for p in range(self.n_atoms):
+            up, keep = (_X1, p + 1, 1), (_X0, p + 1, 1)
+            js = adders.get(p, [])
+            cl.append([(_X1, p + 1, -1), keep, *((_A, j + 1, 1) for j, _ in js)])
+            for j, gs in js:
+                put([(_A, j + 1, -1), *gs, (_X1, p + 1, -1), keep])
+            js = deleters.get(p, [])
+            cl.append([up, (_X0, p + 1, -1), *((_A, j + 1, 1) for j, _ in js)])
+            for j, gs in js:
+                put([(_A, j + 1, -1), *gs, up, (_X0, p + 1, -1)])
+        # unary cost units are monotone: unit k+1 implies unit k
+        for k in range(1, self.max_units):
+            cl.append([(_U, k + 1, -1), (_U, k, 1)])
+        return cl
+
+    def _init_clauses(self, copy: str) -> None:
+        """``x0[p] <-> OR of the guards of p's initial-state entries`` (false if none)."""
+        by_atom: dict[int, list[bool | Lit]] = {}
+        for p, g in self.family.init:
+            by_atom.setdefault(p, []).append(self._guard(copy, g))
+        for p in range(self.n_atoms):
+            x0 = self.x(copy, 0, p)
+            gs = by_atom.get(p, [])
+            if any(g is True for g in gs):
+                self._emit([x0])
+                continue
+            lits = [self._resolve(g, None) for g in gs if g is not False]
+            self._emit([-x0, *lits])
+            for lit in lits:
+                self._emit([-lit, x0])
+
+    def _resolve(self, lit: Lit, bases: Sequence[int] | None) -> int:
+        kind, off, sign = lit
+        return sign * ((bases[kind] if bases is not None else 0) + off)
+
+    # ------------------------------------------------------------- extension
+    def extend(self, horizon: int) -> None:
+        """Append step layers until the encoding has ``horizon`` steps."""
+        while self.horizon < horizon:
+            self._add_step()
+
+    def _add_step(self) -> None:
+        t = self.horizon
+        n = self.n_actions
+        a_base = self._alloc(n)
+        self.a_base.append(a_base)
+        act = self._alloc(1) + 1
+        self.act.append(act)
+        # at most one action (sequential counter), and act <-> some action
+        acts = [a_base + j + 1 for j in range(n)]
+        # s[i] <-> some of a[0..i] (exact both ways: the ordering clauses below read it)
+        s: list[int] = []
+        if n > 1:
+            s_base = self._alloc(n - 1)
+            s = [s_base + i + 1 for i in range(n - 1)]
+            for i in range(n - 1):
+                self._emit([-acts[i], s[i]])
+                if i > 0:
+                    self._emit([-s[i - 1], s[i]])
+                    self._emit([-s[i - 1], -acts[i]])
+                    self._emit([-s[i], s[i - 1], acts[i]])
+                else:
+                    self._emit([-s[0], acts[0]])
+            self._emit([-s[n - 2], -acts[n - 1]])
+        self.prefix.append(s)
+        for lit in acts:
+            self._emit([-lit, act])
+        self._emit([-act, *acts])
+        if self.symmetry_breaking:
+            if t > 0:
+                self._emit([-act, self.act[t - 1]])  # no-op steps only at the end
+            if self.partial_order:
+                self._ordering(t)
+        new_units: dict[str, list[int]] = {}
+        for c in self.copies:
+            x1 = self._alloc(self.n_atoms)
+            self.x_base[c].append(x1)
+            u_base = self._alloc(self.max_units)
+            self.u_base[c].append(u_base)
+            new_units[c] = [u_base + k for k in range(1, self.max_units + 1)]
+            bases = (0, a_base, self.x_base[c][t], x1, u_base)
+            for clause in self._templates[c]:
+                self._emit([self._resolve(lit, bases) for lit in clause])
+        for c in self.copies:
+            tot = self._tot[c]
+            if tot is not None and new_units[c]:
+                tot.extend(lits=new_units[c], top_id=self.top)
+                self._take_totalizer_clauses(tot, tot.nof_new)
+
+    def _ordering(self, t: int) -> None:
+        """Partial-order reduction: of two adjacent *independent* actions, the one with the
+        smaller index comes first.
+
+        Role variables ``R[t][(kind, p)]`` say exactly "the action at step t reads (``pre``),
+        modifies (``mod``), adds (``add``) or deletes (``del``) atom p" over the union of all
+        guarded components (independence must hold in every model of the family).  Action
+        ``k`` at step ``t`` then needs an action of index ``<= k`` at ``t-1`` or one that
+        interferes with it.  Linear size; sound because bubble-sorting any plan by swapping
+        adjacent independent inversions keeps it valid, with the same final state and cost,
+        in every model (``encodings/sequential.md``).
+        """
+        roles: dict[tuple[str, int], int] = {}
+        base = self._alloc(len(self._role_members))
+        for off, (key, members) in enumerate(self._role_members.items()):
+            v = base + off + 1
+            roles[key] = v
+            for j in members:
+                self._emit([-self.a(t, j), v])
+            self._emit([-v, *(self.a(t, j) for j in members)])
+        self.roles.append(roles)
+        if t == 0:
+            return
+        prev, pre_s = self.roles[t - 1], self.prefix[t - 1]
+        for k in range(self.n_actions - 1):  # the last index is never an inversion
+            clause = [-self.a(t, k), pre_s[k]]
+            clause.extend(prev[key] for key in self._interferes[k] if key in prev)
+            self._emit(clause)
+
+    def _prepare_ordering(self) -> None:
+        """Static interference data for :meth:`_ordering` (guards ignored: conservative)."""
+        members: dict[tuple[str, int], set[int]] = {}
+        for j, act in enumerate(self.family.actions):
+            for p, _ in act.pre + act.negpre:
+                members.setdefault(("pre", p), set()).add(j)
+            for p, _ in act.add + act.delete:
+                members.setdefault(("mod", p), set()).add(j)
+            for p, _ in act.add:
+                members.setdefault(("add", p), set()).add(j)
+            for p, _ in act.delete:
+                members.setdefault(("del", p), set()).add(j)
+        self._interferes: list[list[tuple[str, int]]] = []
+        needed: set[tuple[str, int]] = set()
+        for act in self.family.actions:
+            keys = {("mod", p) for p, _ in act.pre + act.negpre}
+            keys |= {("pre", p) for p, _ in act.add + act.delete}
+            keys |= {("del", p) for p, _ in act.add}
+            keys |= {("add", p) for p, _ in act.delete}
+            keys &= members.keys()
+            self._interferes.append(sorted(keys))
+            needed |= keys
+        self._role_members = {k: sorted(members[k]) for k in sorted(needed)}
+
+    def _take_totalizer_clauses(self, tot: ITotalizer, count: int) -> None:
+        if count:
+            for clause in tot.cnf.clauses[-count:]:
+                self._emit(list(clause))
+        self.top = max(self.top, tot.top_id)
+
+    # ------------------------------------------------------------ assumptions
+    def goal_assumptions(self, h: int) -> list[int]:
+        """Assumptions "every copy reaches its goal after exactly ``h`` steps".
+
+        With symmetry breaking also ``-act[h]`` (no action from step h on), so the solver need
+        not consider the steps beyond ``h`` that a longer encoding has.
+        """
+        if h < 0:
+            raise ValueError("negative horizon")
+        self.extend(h)
+        g = self.goal_act.get(h)
+        if g is None:
+            g = self._alloc(1) + 1
+            self.goal_act[h] = g
+            for c in self.copies:
+                for p, guard in self.family.goal:
+                    gv = self._guard(c, guard)
+                    if gv is False:
+                        continue
+                    lits = [-g, self.x(c, h, p)]
+                    if gv is not True:
+                        lits.insert(1, -self._resolve(gv, None))
+                    self._emit(lits)
+        out = [g]
+        if self.horizon > h and self.symmetry_breaking:
+            out.append(-self.act[h])
+        elif self.horizon > h:
+            out.extend(-self.a(t, j) for t in range(h, self.horizon) for j in range(self.n_actions))
+        return out
+
+    def cost_assumptions(self, copy: str, bound: int | None, horizon: int = 0) -> list[int] | None:
+        """Assumptions "total cost of ``copy`` over all steps <= ``bound``".
+
+        The encoding is first extended to ``horizon`` steps: growing it later replaces the
+        totalizer outputs, so literals returned before an extension must not be used after it.
+        ``horizon`` must be the one given to :meth:`goal_assumptions` in the same call (the
+        steps after it are idle, which lets unit-cost bounds be dropped entirely).
+        ``[]`` when the bound cannot bite; ``None`` when it is unsatisfiable (bound < 0).
+        """
+        self.extend(horizon)
+        if bound is None:
+            return []
+        if bound < 0:
+            return None
+        b = bound // self.cost_unit
+        units = [
+            self.u(copy, t, k) for t in range(self.horizon) for k in range(1, self.max_units + 1)
+        ]
+        if b >= len(units) or b >= horizon * self.max_units:
+            return []  # cannot bite (goal_assumptions(horizon) idles the later steps)
+        tot = self._tot[copy]
+        if tot is None:
+            tot = ITotalizer(lits=units, ubound=b + 1, top_id=self.top)
+            self._tot[copy] = tot
+            self._take_totalizer_clauses(tot, len(tot.cnf.clauses))
+        elif tot.ubound < b + 1:
+            tot.increase(ubound=b + 1, top_id=self.top)
+            self._take_totalizer_clauses(tot, tot.nof_new)
+        return [-tot.rhs[b]]
+
+    # ---------------------------------------------------------------- decode
+    def decode_plan(self, model: Sequence[int], h: int) -> tuple[PlanStep, ...]:
+        """The actions true in ``model`` at steps ``0..h-1`` (no-op steps skipped)."""
+        true = set(lit for lit in model if lit > 0)
+        plan = []
+        for t in range(min(h, self.horizon)):
+            for j in range(self.n_actions):
+                if self.a(t, j) in true:
+                    plan.append(self.family.actions[j].step)
+                    break
+        return tuple(plan)
+
+    def decode_selection(self, model: Sequence[int]) -> frozenset[int]:
+        n = self.family.n_updates
+        return frozenset(i for i in range(n) if i < len(model) and model[i] > 0)
+
+    # ------------------------------------------------------------- var names
+    def var_map(self) -> dict[int, str]:
+        """Human-readable meaning of every named variable (auxiliaries are left out)."""
+        fam = self.family
+        out: dict[int, str] = {}
+        for i in range(fam.n_updates):
+            out[self.e(i)] = f"e[{i}]"
+        for t in range(self.horizon):
+            out[self.act[t]] = f"act[{t}]"
+            for j, a in enumerate(fam.actions):
+                out[self.a(t, j)] = f"a[{t}]={step_str(a.step)}"
+        for c in self.copies:
+            for t in range(self.horizon + 1):
+                for p in range(self.n_atoms):
+                    out[self.x(c, t, p)] = f"x[{c}][{t}]{fam.atom_name(p)}"
+            for t in range(self.horizon):
+                for k in range(1, self.max_units + 1):
+                    out[self.u(c, t, k)] = f"u[{c}][{t}][{k}]"
+            tot = self._tot[c]
+            if tot is not None:
+                for b, v in enumerate(tot.rhs):
+                    out[v] = f"cost[{c}]>={(b + 1) * self.cost_unit}"
+        for h, g in self.goal_act.items():
+            out[g] = f"goal[{h}]"
+        return out

@@ -1,0 +1,172 @@
+"""OPT and JOINT against explicit-state ground truth on random families and selections."""
+
+from __future__ import annotations
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from sat_families import (
+    agreeing,
+    dijkstra,
+    families,
+    joint_brute,
+    plan_cost,
+    selections,
+)
+
+from mega_sat.family import GroundAction, GroundFamily
+from mega_sat.oracles import JointResult, OptResult, SatOracles
+
+SETTINGS = settings(
+    max_examples=150, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck)
+)
+
+
+def check_opt(fam: GroundFamily, orc: SatOracles, sel: frozenset[int]) -> OptResult:
+    task = fam.specialize(sel)
+    r = orc.opt(sel)
+    best = dijkstra(task)
+    if best is None:
+        assert r.status == "unsolvable" and r.exact and r.plan is None
+    else:
+        assert r.status == "optimal" and r.cost == best
+        assert plan_cost(task, r.plan) == best
+    return r
+
+
+@SETTINGS
+@given(fam=families(), data=st.data())
+def test_opt_matches_dijkstra_and_astar(fam: GroundFamily, data):
+    from mega_sat.search import astar
+
+    with SatOracles(fam) as orc:
+        for _ in range(3):
+            sel = data.draw(selections(fam.n_updates))
+            r = check_opt(fam, orc, sel)
+            assert r.exact
+            a = astar(fam.specialize(sel), heuristic="hmax")
+            assert a.cost == r.cost and (a.status == "unsolvable") == (r.status == "unsolvable")
+        rob = orc.robot_optimal()
+        assert rob == orc.opt(fam.robot_selection)
+        assert orc.stats["sat_opt_vars"] > 0 and orc.stats["sat_opt_calls"] >= 1
+
+
+@SETTINGS
+@given(fam=families(min_cost=0), data=st.data())
+def test_opt_zero_cost_never_claims_a_false_proof(fam: GroundFamily, data):
+    """With zero-cost actions the horizon argument fails: whatever is claimed exact is right,
+    and the found plan is always valid with the reported cost."""
+    with SatOracles(fam) as orc:
+        sel = data.draw(selections(fam.n_updates))
+        task = fam.specialize(sel)
+        r = orc.opt(sel)
+        best = dijkstra(task)
+        if r.status == "optimal":
+            assert plan_cost(task, r.plan) == r.cost and best is not None and r.cost >= best
+            if r.exact:
+                assert r.cost == best
+        if r.status == "unsolvable":
+            assert best is None and r.exact
+        if fam.min_cost == 0 and r.status == "optimal" and r.cost > 0 and not r.exact:
+            assert "zero-cost" in r.reason
+
+
+@SETTINGS
+@given(fam=families(max_atoms=3, max_actions=5, max_updates=4), data=st.data())
+def test_joint_matches_paired_search_and_cores_are_sound(fam: GroundFamily, data):
+    robot = fam.specialize(fam.robot_selection)
+    with SatOracles(fam) as orc:
+        for _ in range(2):
+            sel = data.draw(selections(fam.n_updates))
+            hb = data.draw(st.integers(0, 7))
+            rb = data.draw(st.one_of(st.none(), st.integers(0, 7)))
+            r = orc.joint(sel, rb, hb)
+            assert isinstance(r, JointResult) and r.exact
+            best = joint_brute(fam, sel, rb, hb)
+            if best is None:
+                assert r.status == "infeasible" and r.plan is None and r.core is not None
+                assert all(v == (i in sel) for i, v in r.core)  # literals of the selection
+                alone = orc.joint_lits(r.core, rb, hb)
+                assert alone.status == "infeasible"
+                for other in agreeing(r.core, fam.n_updates):
+                    assert joint_brute(fam, other, rb, hb) is None
+            else:
+                assert r.status == "plan" and r.robot_cost == best and r.selection == sel
+                assert plan_cost(robot, r.plan) == r.robot_cost
+                assert plan_cost(fam.specialize(sel), r.plan) == r.human_cost <= hb
+
+
+def _chain(n: int) -> GroundFamily:
+    """p0 -> p1 -> ... -> pn: the only plan has n steps."""
+    acts = tuple(
+        GroundAction(
+            "step", (str(i),), None, ((i, None),), (), ((i + 1, None),), ((i, None),), (((), 1),)
+        )
+        for i in range(n)
+    )
+    return GroundFamily(
+        tuple((f"p{i}",) for i in range(n + 1)), 0, acts, ((0, None),), ((n, None),)
+    )
+
+
+def test_horizon_cap_is_reported_not_hidden():
+    fam = _chain(8)
+    with SatOracles(fam, horizon_cap=4) as orc:
+        r = orc.opt(frozenset())
+        # the SAT search cannot reach 8 steps; the explicit-search fallback decides exactly
+        assert r.status == "optimal" and r.cost == 8 and r.exact
+        assert "horizon cap" in r.reason
+        j = orc.joint(frozenset(), None, 8)
+        assert not j.exact and "horizon cap" in j.reason
+    with SatOracles(fam, horizon_cap=4, fallback_node_limit=2) as orc:
+        r = orc.opt(frozenset())
+        assert r.status == "unknown" and not r.exact
+    with SatOracles(fam) as orc:
+        assert orc.opt(frozenset()).cost == 8
+        j = orc.joint(frozenset(), None, 8)
+        assert j.status == "plan" and j.exact and j.robot_cost == 8
+        assert orc.joint(frozenset(), None, 7).core == frozenset()
+
+
+def test_core_is_minimized():
+    """Goal g needs action a, which needs update 0 selected (human side); updates 1..3 are
+    irrelevant decoys. Not selecting 0 is the whole core."""
+    a = GroundAction("a", (), (0, True), (), (), ((0, None),), (), (((), 1),))
+    b = GroundAction(
+        "b", (), None, (), (), ((1, None),), (), ((((1, True),), 1), (((1, False),), 2))
+    )
+    fam = GroundFamily((("g",), ("h",)), 4, (a, b), ((1, (2, True)),), ((0, None),))
+    with SatOracles(fam) as orc:
+        r = orc.joint(frozenset({3}), None, 5)
+        assert r.status == "infeasible" and r.core == frozenset({(0, False)})
+        r = orc.joint(frozenset({0, 3}), None, 5)
+        assert r.status == "plan" and r.plan == (("a",),) and r.robot_cost == 1
+
+
+@pytest.mark.parametrize("problem", ["p1", "p2"])
+def test_usar_fetch_domain(problem):
+    """Smoke test on a real domain: OPT and JOINT agree with explicit search."""
+    from pathlib import Path
+
+    from mega_sat.grounding import ground
+    from mega_sat.pddl_reader import read_model
+    from mega_sat.search import astar
+    from mega_sat.task import TwoModelTask
+
+    d = Path(__file__).resolve().parent.parent / "domains" / "usar-fetch"
+    pdir = d / problem
+    if not (pdir / "robot-problem.pddl").exists():
+        pytest.skip("domain not present")
+    hp = pdir / "human-problem.pddl"
+    robot = read_model(d / "robot-domain.pddl", pdir / "robot-problem.pddl")
+    human = read_model(d / "human-domain.pddl", hp if hp.exists() else pdir / "robot-problem.pddl")
+    fam = ground(TwoModelTask.from_models(robot, human))
+    with SatOracles(fam) as orc:
+        for sel in (frozenset(), fam.robot_selection):
+            r = orc.opt(sel)
+            a = astar(fam.specialize(sel), heuristic="lmcut")
+            assert r.cost == a.cost and r.exact
+            j = orc.joint(sel, None, r.cost)
+            if j.status == "plan":
+                assert plan_cost(fam.specialize(sel), j.plan) == j.human_cost == r.cost
+        assert orc.stats["sat_max_call_time_s"] < 0.5
