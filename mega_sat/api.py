@@ -1,0 +1,174 @@
+"""The library API: load a task, compute the frontier, solve for one alpha, explain, verify.
+
+Typical use::
+
+    from mega_sat import api
+    task = api.load_task("domains/usar-fetch/robot-domain.pddl",
+                         "domains/usar-fetch/p1/robot-problem.pddl",
+                         "domains/usar-fetch/human-domain.pddl",
+                         "domains/usar-fetch/p1/human-problem.pddl")
+    sol = api.solve(task, alpha=0.1)                 # engine="sat" (default) or "astar"
+    print(sol.chosen.explanation, sol.chosen.plan)
+    assert api.verify(task, sol.chosen).ok
+
+A :class:`MegaSolver` keeps the ground family and the SAT solvers alive, so asking it for
+several alphas, the frontier and an MCE costs one grounding and one encoding.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+from functools import cached_property
+
+from mega_sat.errors import UsageError
+from mega_sat.family import GroundFamily, PlanStep
+from mega_sat.loading import load_task, load_task_from_strings
+from mega_sat.results import Explanation, Frontier, FrontierPoint, Solution, choose
+from mega_sat.task import TwoModelTask
+from mega_sat.verify import VerifyReport, verify_pair
+
+ENGINES = ("sat", "astar")
+
+__all__ = [
+    "ENGINES",
+    "MegaSolver",
+    "explain",
+    "frontier",
+    "load_task",
+    "load_task_from_strings",
+    "solve",
+    "verify",
+]
+
+
+def _check_alpha(alpha: float) -> float:
+    try:
+        a = float(alpha)
+    except (TypeError, ValueError):
+        raise UsageError(f"alpha must be a number >= 0, got {alpha!r}") from None
+    if not a >= 0 or a == float("inf"):
+        raise UsageError(f"alpha must be a finite number >= 0, got {alpha!r}")
+    return a
+
+
+class MegaSolver:
+    """One task with its ground family and solvers kept alive across calls.
+
+    ``engine``: ``sat`` (hitting-set loop, exact) or ``astar`` (the paper's Algorithm 1).
+    ``planner``: the optimal planner called on candidate models (``builtin``, ``sat``, ``fd``):
+    the per-node planner of ``astar``, the OPT oracle of ``sat``, and MCE's.  The ``sat``
+    engine's JOINT check is always the SAT encoding.  ``hitting_set``: ``rc2`` or ``ilp``.
+    """
+
+    def __init__(self, task: TwoModelTask, *, engine: str = "sat", planner: str | None = None,
+                 hitting_set: str = "rc2", solver: str = "cadical195",
+                 timeout: float | None = None):
+        if engine not in ENGINES:
+            raise UsageError(f"unknown engine {engine!r} (choose from {', '.join(ENGINES)})")
+        if hitting_set not in ("rc2", "ilp"):
+            raise UsageError(f"unknown hitting-set solver {hitting_set!r} (choose rc2 or ilp)")
+        if timeout is not None and not timeout > 0:
+            raise UsageError(f"timeout must be > 0 seconds, got {timeout!r}")
+        self.task = task
+        self.engine = engine
+        self.planner = planner or "builtin"
+        self.hitting_set = hitting_set
+        self.solver = solver
+        self.timeout = timeout
+        self._frontier: Frontier | None = None
+
+    @cached_property
+    def family(self) -> GroundFamily:
+        from mega_sat.grounding import ground
+
+        return ground(self.task)
+
+    @cached_property
+    def oracles(self):
+        from mega_sat.oracles import SatOracles
+
+        return SatOracles(self.family, solver=self.solver)
+
+    def _oracles_if_needed(self):
+        return self.oracles if (self.engine == "sat" or self.planner == "sat") else None
+
+    def frontier(self) -> Frontier:
+        """Every Pareto-optimal ``(|E|, robot cost)`` pair with a witness (computed once)."""
+        if self._frontier is None:
+            if self.engine == "sat":
+                from mega_sat.sat_engine import sat_frontier
+
+                self._frontier = sat_frontier(self.task, self.family, oracles=self.oracles,
+                                              planner=self.planner,
+                                              hitting_set=self.hitting_set,
+                                              timeout=self.timeout)
+            else:
+                from mega_sat.astar_engine import astar_frontier
+
+                self._frontier = astar_frontier(self.task, self.family, planner=self.planner,
+                                                timeout=self.timeout,
+                                                oracles=self._oracles_if_needed())
+        return self._frontier
+
+    def solve(self, alpha: float) -> Solution:
+        """MEGA's answer for one alpha.
+
+        ``sat``: the frontier point minimising the objective (SPEC tie-breaking).  ``astar``:
+        the minimum node of the paper's Algorithm 1 run with this alpha.
+        """
+        alpha = _check_alpha(alpha)
+        if self.engine == "sat":
+            return choose(self.frontier(), alpha)
+        from mega_sat.astar_engine import astar_solve
+
+        return astar_solve(self.task, self.family, alpha, planner=self.planner,
+                           timeout=self.timeout, oracles=self._oracles_if_needed())
+
+    def explain(self, plan: Sequence[PlanStep] | None = None) -> Explanation:
+        """MCE of ``plan`` (default: a robot-optimal plan)."""
+        from mega_sat.mce import minimal_explanation
+
+        planner = self.planner
+        return minimal_explanation(self.task, self.family, plan, planner=planner,
+                                   hitting_set=self.hitting_set,
+                                   oracles=self.oracles if planner == "sat" else None,
+                                   timeout=self.timeout)
+
+    def verify(self, point: FrontierPoint | Explanation | None = None, *,
+               explanation: Iterable[str] | None = None,
+               plan: Sequence[PlanStep] | None = None, producer: str | None = None,
+               use_val: bool = True) -> VerifyReport:
+        """Check a pair: a frontier point / MCE, or explanation names plus a plan."""
+        if point is not None:
+            sel, plan = point.selection, point.plan
+            rc, hc = point.robot_cost, point.human_cost
+        else:
+            if plan is None:
+                raise UsageError("verify needs a plan")
+            sel = self.task.selection_from_names(explanation or [])
+            rc = hc = None
+        prod = producer or self.planner
+        return verify_pair(self.task, self.family, sel, plan, producer=prod, robot_cost=rc,
+                           human_cost=hc, use_val=use_val)
+
+
+def frontier(task: TwoModelTask, *, engine: str = "sat", **kw) -> Frontier:
+    """The MEGA frontier of ``task`` (paper property 4: answers every alpha)."""
+    return MegaSolver(task, engine=engine, **kw).frontier()
+
+
+def solve(task: TwoModelTask, alpha: float, *, engine: str = "sat", **kw) -> Solution:
+    """MEGA's plan and explanation for one ``alpha``."""
+    return MegaSolver(task, engine=engine, **kw).solve(alpha)
+
+
+def explain(task: TwoModelTask, plan: Sequence[PlanStep] | None = None, **kw) -> Explanation:
+    """The MCE of ``plan`` (default: a robot-optimal plan)."""
+    return MegaSolver(task, **kw).explain(plan)
+
+
+def verify(task: TwoModelTask, point: FrontierPoint | Explanation | None = None,
+           **kw) -> VerifyReport:
+    """Independent check of an answer (see :mod:`mega_sat.verify`)."""
+    solver_kw = {k: kw.pop(k) for k in ("engine", "planner") if k in kw}
+    return MegaSolver(task, **solver_kw).verify(point, **kw)

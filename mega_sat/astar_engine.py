@@ -1,0 +1,146 @@
+"""The ``astar`` engine: the paper's Algorithm 1 (MEGA-Search), reproduced as the baseline.
+
+Model-space search keyed by |E|: every node is a model ``human + E``; popping it calls an optimal
+planner for one optimal plan ``pi*`` of that model; ``OBJ_VAL = |E| + alpha * |C(pi*, M^R) -
+C*_R|`` (infinite when ``pi*`` is not executable by the robot); the minimum node is kept (``<=``,
+so a later node wins ties, as in the paper); the search stops at the first node whose ``pi*`` is
+optimal in the robot model.  Successors flip one update not yet in ``E``; a closed list stops
+re-expansion.
+
+Deliberately *not* fixed: the search judges a model by the one optimal plan its planner happens
+to return, so when a model has several optimal plans it can miss MEGA's best answer.  The
+``sat`` engine is compared against it, never the other way round.  A node popped again after it
+was closed is skipped without a planner call (the paper's closed list is checked at push time;
+skipping a repeat cannot change the answer, only save time, which favours the baseline).
+"""
+
+from __future__ import annotations
+
+import heapq
+import itertools
+import math
+import time
+
+from mega_sat.errors import UnsolvableError
+from mega_sat.family import GroundFamily
+from mega_sat.node_planner import NodePlanner
+from mega_sat.results import Frontier, FrontierPoint, Solution, exact_alpha, pareto_filter
+from mega_sat.simulate import simulate_ground
+from mega_sat.task import TwoModelTask
+
+
+class _Search:
+    """State of one run of MEGA-Search, shared by ``solve`` and ``frontier``."""
+
+    def __init__(self, task: TwoModelTask, family: GroundFamily, planner: NodePlanner,
+                 timeout: float | None):
+        self.task, self.family, self.planner = task, family, planner
+        self.t0 = time.perf_counter()
+        self.deadline = None if timeout is None else self.t0 + timeout
+        self.robot_task = family.specialize(family.robot_selection)
+        self.nodes: list[tuple[frozenset[int], tuple, int | None, int | None]] = []
+        self.expanded = 0
+        self.duplicates = 0
+        self.notes: list[str] = []
+        self.exact_planner = True
+        self.timed_out = False
+
+        r = planner.optimal(family.robot_selection)
+        src = task.sources.get("robot_problem", "robot problem")
+        if r.status == "unsolvable":
+            raise UnsolvableError("the robot problem has no plan", path=src)
+        if r.status != "optimal":
+            raise UnsolvableError(f"no plan found for the robot problem ({r.reason})", path=src)
+        self.c_robot = r.cost
+        self.exact_planner &= r.exact
+
+    def run(self, alpha: float) -> tuple[frozenset[int], tuple, int | None, int | None, float]:
+        """Algorithm 1; returns the minimum node ``(E, pi*, robot cost, human cost, obj)``."""
+        a = exact_alpha(alpha)
+        counter = itertools.count()
+        fringe = [(0, next(counter), frozenset())]
+        closed: set[frozenset[int]] = set()
+        best = None
+        best_obj = math.inf
+        n = len(self.task.delta)
+        while fringe:
+            if self.deadline is not None and time.perf_counter() > self.deadline:
+                self.timed_out = True
+                self.notes.append("time limit reached before the stopping node")
+                break
+            c, _, sel = heapq.heappop(fringe)
+            if sel in closed:
+                self.duplicates += 1
+                continue
+            self.expanded += 1
+            r = self.planner.optimal(sel)
+            self.exact_planner &= r.exact
+            rc = hc = None
+            obj = math.inf
+            plan = ()
+            if r.status == "optimal":
+                plan, hc = r.plan, r.cost
+                sim = simulate_ground(self.robot_task, plan)
+                if sim.valid:
+                    rc = sim.cost
+                    obj = len(sel) + a * abs(rc - self.c_robot)
+            self.nodes.append((sel, plan, rc, hc))
+            if obj <= best_obj:
+                best, best_obj = (sel, plan, rc, hc), obj
+            if rc is not None and rc == self.c_robot:
+                return (*best, best_obj)
+            closed.add(sel)
+            for f in range(n):
+                if f not in sel:
+                    nxt = sel | {f}
+                    if nxt not in closed:
+                        heapq.heappush(fringe, (c + 1, next(counter), nxt))
+        if best is None or best_obj == math.inf:
+            return (frozenset(), (), None, None, math.inf)
+        return (*best, best_obj)
+
+    def frontier(self) -> Frontier:
+        pts = [FrontierPoint(tuple(self.task.names(sel)), sel, tuple(plan), rc, hc)
+               for sel, plan, rc, hc in self.nodes if rc is not None]
+        notes = ["A* baseline: each model is judged by one optimal plan of its planner; ties "
+                 "between optimal plans can hide better answers, so no optimality is claimed"]
+        notes += self.notes
+        if not self.exact_planner:
+            notes.append("some per-node planner calls were not proven optimal")
+        return Frontier(
+            engine="astar",
+            robot_optimal_cost=self.c_robot,
+            model_difference=tuple(u.name for u in self.task.delta),
+            points=pareto_filter(pts),
+            exact=False,
+            complete=not self.timed_out,
+            notes=tuple(dict.fromkeys(notes)),
+            time_s=time.perf_counter() - self.t0,
+            stats={"nodes_expanded": self.expanded, "duplicate_pops": self.duplicates,
+                   "planner": self.planner.kind, "planner_calls": self.planner.calls,
+                   "planner_time_s": round(self.planner.time_s, 6)},
+        )
+
+
+def astar_solve(task: TwoModelTask, family: GroundFamily, alpha: float, *,
+                planner: str = "builtin", timeout: float | None = None,
+                oracles=None) -> Solution:
+    """Algorithm 1 for one ``alpha``: the paper's answer, with the explored nodes as frontier."""
+    np_ = NodePlanner(task, family, planner, oracles=oracles)
+    s = _Search(task, family, np_, timeout)
+    sel, plan, rc, hc, obj = s.run(alpha)
+    fr = s.frontier()
+    if rc is None:
+        raise UnsolvableError("MEGA-Search found no plan executable by the robot"
+                              + (" before the time limit" if s.timed_out else ""))
+    chosen = FrontierPoint(tuple(task.names(sel)), sel, tuple(plan), rc, hc)
+    return Solution(alpha, chosen, chosen.objective(alpha, fr.robot_optimal_cost), fr)
+
+
+def astar_frontier(task: TwoModelTask, family: GroundFamily, *, planner: str = "builtin",
+                   timeout: float | None = None, oracles=None) -> Frontier:
+    """Paper property 4: one MEGA-Search, its explored nodes re-scored for every alpha."""
+    np_ = NodePlanner(task, family, planner, oracles=oracles)
+    s = _Search(task, family, np_, timeout)
+    s.run(0.0)
+    return s.frontier()

@@ -1,0 +1,105 @@
+"""One optimal planning call on one model of the family, by a chosen planner.
+
+The A* baseline calls this at every node of its model-space search, MCE and verification use it
+too.  Three planners answer the same question (optimal cost and one optimal plan of
+``human + E``):
+
+* ``builtin`` — explicit-state A* with LM-cut on the ground task (:mod:`mega_sat.search`);
+* ``sat``     — the OPT oracle of the SAT encoding (:mod:`mega_sat.oracles`);
+* ``fd``      — Fast Downward ``astar(lmcut())`` on PDDL files of the model, the paper's set-up.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+from mega_sat.errors import PlannerError, UsageError
+from mega_sat.family import GroundFamily, PlanStep
+from mega_sat.task import TwoModelTask
+
+PLANNERS = ("builtin", "sat", "fd")
+
+
+@dataclass(frozen=True)
+class NodePlan:
+    """Outcome of one optimal planning call: ``status`` is ``optimal``, ``unsolvable`` or
+    ``unknown`` (time-out, horizon cap); ``exact`` is false when optimality is not proven."""
+
+    status: str
+    plan: tuple[PlanStep, ...] | None
+    cost: int | None
+    exact: bool
+    planner: str
+    time_s: float
+    reason: str = ""
+
+
+class NodePlanner:
+    """Answers ``optimal(selection)`` for one task with one planner; keeps what it can alive
+    (the SAT oracles, the ground family) across calls."""
+
+    def __init__(self, task: TwoModelTask, family: GroundFamily, kind: str = "builtin", *,
+                 time_limit: float | None = None, oracles=None, solver: str = "cadical195"):
+        if kind not in PLANNERS:
+            raise UsageError(f"unknown planner {kind!r} (choose from {', '.join(PLANNERS)})")
+        if kind == "fd":
+            from mega_sat.fast_downward import fd_available
+
+            if not fd_available():
+                raise UsageError("planner 'fd' needs Fast Downward: pip install 'mega-sat[fd]'")
+        self.task, self.family, self.kind = task, family, kind
+        self.time_limit = time_limit
+        self._oracles = oracles
+        self._solver = solver
+        self.calls = 0
+        self.time_s = 0.0
+
+    @property
+    def oracles(self):
+        if self._oracles is None:
+            from mega_sat.oracles import SatOracles
+
+            self._oracles = SatOracles(self.family, solver=self._solver)
+        return self._oracles
+
+    def optimal(self, selection: frozenset[int]) -> NodePlan:
+        t0 = time.perf_counter()
+        self.calls += 1
+        try:
+            return self._optimal(frozenset(selection), t0)
+        finally:
+            self.time_s += time.perf_counter() - t0
+
+    def _optimal(self, sel: frozenset[int], t0: float) -> NodePlan:
+        task = self.family.specialize(sel)
+        if task.goal <= task.init:
+            # the empty plan is optimal (costs are >= 0); some planners refuse such tasks
+            return NodePlan("optimal", (), 0, True, self.kind, time.perf_counter() - t0)
+        if self.kind == "builtin":
+            from mega_sat.search import astar
+
+            r = astar(task, heuristic="lmcut", time_limit=self.time_limit)
+            status = r.status if r.status in ("optimal", "unsolvable") else "unknown"
+            return NodePlan(status, r.plan, r.cost, status != "unknown", "builtin",
+                            time.perf_counter() - t0, "" if status != "unknown" else r.status)
+        if self.kind == "sat":
+            r = self.oracles.opt(sel)
+            return NodePlan(r.status, r.plan, r.cost, r.exact, "sat", time.perf_counter() - t0,
+                            r.reason)
+        from mega_sat.fast_downward import fd_plan
+        from mega_sat.pddl_writer import domain_to_pddl, problem_to_pddl
+
+        model = self.task.updated_model(sel)
+        r = fd_plan(domain_to_pddl(model), problem_to_pddl(model), time_limit=self.time_limit)
+        status = r.status if r.status in ("optimal", "unsolvable") else "unknown"
+        if status == "optimal" and r.plan is not None:
+            # FD may print names in another case or order; map back onto the family's steps
+            plan = tuple(tuple(x.lower() for x in s) for s in r.plan)
+            missing = [s for s in plan if s not in self.family.action_index]
+            if missing:
+                raise PlannerError(f"Fast Downward returned an action outside the ground family: "
+                                   f"({' '.join(missing[0])})")
+            return NodePlan("optimal", plan, r.cost, True, "fd", time.perf_counter() - t0)
+        return NodePlan(status, None, None, status != "unknown", "fd", time.perf_counter() - t0,
+                        r.status)

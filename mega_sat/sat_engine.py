@@ -1,0 +1,154 @@
+"""The ``sat`` engine: the whole MEGA frontier by a hitting-set loop over SAT oracles.
+
+Loop (SPEC section 2), from the explicable end toward the robot-optimal end::
+
+    K = inf; learned = []
+    E = smallest selection satisfying learned          (hitting set: RC2 or CBC)
+    c*, pi* = OPT(E)                                    (optimal human cost of human + E)
+    JOINT(E, K, c*) -> a plan pi: new frontier point; stop if robot-optimal; K = cost(pi) - 1
+                    -> a core:    learned += NOT(E restricted to core ∪ support(pi*))
+
+``support(pi*)`` is the tight support of :func:`mega_sat.support.tight_support`: only the
+updates whose flip could make ``pi*`` fail or cost more.
+
+Each success is the smallest |E| that admits a solution with robot cost <= K, because learned
+clauses only ever remove selections that provably have no such solution (argument in
+``encodings/hitting-set.md``); the clauses stay valid as K decreases, so they are kept.
+"""
+
+from __future__ import annotations
+
+import time
+
+from mega_sat.family import GroundFamily
+from mega_sat.hitting_set import make_hitting_set
+from mega_sat.results import Frontier, FrontierPoint, pareto_filter
+from mega_sat.support import exclusion_clause, tight_support, unsolvable_core
+from mega_sat.task import TwoModelTask
+
+
+def sat_frontier(task: TwoModelTask, family: GroundFamily, *, oracles=None,
+                 planner: str = "builtin", hitting_set: str = "rc2",
+                 solver: str = "cadical195", timeout: float | None = None) -> Frontier:
+    """Compute the Pareto frontier of MEGA solutions with the hitting-set loop.
+
+    ``planner`` answers OPT (the optimal cost of a candidate model): ``builtin`` (explicit
+    A* with LM-cut, exact by admissibility; falls back to the SAT OPT oracle if it gives up),
+    ``sat`` (the SAT OPT oracle, exact by the horizon argument) or ``fd``.  JOINT, the check
+    that gives cores, is always the SAT encoding.
+    """
+    from mega_sat.node_planner import NodePlanner
+    from mega_sat.oracles import SatOracles
+
+    t0 = time.perf_counter()
+    deadline = None if timeout is None else t0 + timeout
+    orc = oracles if oracles is not None else SatOracles(family, solver=solver)
+    opt_planner = NodePlanner(task, family, planner, oracles=orc)
+    notes: list[str] = []
+    exact = True
+
+    def opt_of(sel):
+        r = opt_planner.optimal(sel)
+        if r.status == "unknown" and planner != "sat":
+            r = NodePlanner(task, family, "sat", oracles=orc).optimal(sel)
+        return r
+
+    robot = opt_of(family.robot_selection)
+    _require_robot_plan(task, robot)
+    if not robot.exact:
+        exact = False
+        notes.append(f"robot optimum not proven: {robot.reason}")
+    c_robot = robot.cost
+
+    hs = make_hitting_set(hitting_set, len(task.delta))
+    opt_cache: dict[frozenset[int], object] = {}
+    points: list[FrontierPoint] = []
+    bound: int | None = None  # K: robot cost must be <= K (None: unbounded)
+    complete = False
+    lower_bound = None
+    stats = {"iterations": 0, "opt_calls": 0, "joint_calls": 0, "learned": 0,
+             "learned_literals": 0, "unsolvable_models": 0}
+    try:
+        while True:
+            if deadline is not None and time.perf_counter() > deadline:
+                nxt = hs.minimum()
+                lower_bound = None if nxt is None else len(nxt)
+                complete = nxt is None
+                if not complete:
+                    notes.append(f"time limit {timeout}s reached: frontier incomplete; any "
+                                 f"solution cheaper than the last point needs |E| >= "
+                                 f"{lower_bound}")
+                break
+            sel = hs.minimum()
+            if sel is None:
+                complete = True
+                break
+            stats["iterations"] += 1
+            opt = opt_cache.get(sel)
+            if opt is None:
+                opt = opt_of(sel)
+                opt_cache[sel] = opt
+                stats["opt_calls"] += 1
+            if opt.status != "optimal":
+                # no plan (or none found): no solution can use this model; exclude it
+                on = None
+                if opt.status == "unsolvable":
+                    stats["unsolvable_models"] += 1
+                    on = unsolvable_core(family, sel)
+                else:
+                    exact = False
+                    notes.append(f"OPT undecided for a model with |E|={len(sel)}: {opt.reason}")
+                _learn(hs, exclusion_clause(sel, on if on is not None else range(len(task.delta))),
+                       stats)
+                continue
+            if not opt.exact:
+                exact = False
+                notes.append(f"OPT not proven optimal (|E|={len(sel)}): {opt.reason}")
+            res = orc.joint(sel, bound, opt.cost)
+            stats["joint_calls"] += 1
+            if not res.exact:
+                exact = False
+                notes.append(f"JOINT not exact (|E|={len(sel)}): {res.reason}")
+            if res.plan is not None:
+                points.append(FrontierPoint(tuple(task.names(sel)), sel, tuple(res.plan),
+                                            res.robot_cost, res.human_cost))
+                if res.robot_cost <= c_robot:
+                    complete = True
+                    break
+                bound = res.robot_cost - 1
+                continue
+            on = {i for i, _ in res.core} | {i for i, _ in tight_support(family, sel, opt.plan)}
+            _learn(hs, exclusion_clause(sel, on), stats)
+    finally:
+        hs.close()
+    pts = pareto_filter(points)
+    return Frontier(
+        engine="sat",
+        robot_optimal_cost=c_robot,
+        model_difference=tuple(u.name for u in task.delta),
+        points=pts,
+        exact=exact and complete,
+        complete=complete,
+        notes=tuple(dict.fromkeys(notes)),
+        next_size_lower_bound=lower_bound,
+        time_s=time.perf_counter() - t0,
+        stats={**stats, "opt_planner": planner, "opt_time_s": round(opt_planner.time_s, 6),
+               "hitting_set": hitting_set, "hitting_set_calls": hs.calls,
+               **getattr(orc, "stats", {})},
+    )
+
+
+def _learn(hs, clause, stats) -> None:
+    hs.add(clause)
+    stats["learned"] += 1
+    stats["learned_literals"] += len(clause)
+
+
+def _require_robot_plan(task: TwoModelTask, robot) -> None:
+    from mega_sat.errors import UnsolvableError
+
+    src = task.sources.get("robot_problem", "robot problem")
+    if robot.status == "unsolvable":
+        raise UnsolvableError("the robot problem has no plan", path=src)
+    if robot.status != "optimal":
+        raise UnsolvableError(f"no plan found for the robot problem ({robot.reason})", path=src)

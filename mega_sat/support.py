@@ -1,0 +1,121 @@
+"""Which updates a plan's behaviour depends on, and the clauses learned from failed candidates.
+
+``support(plan)`` is the set of updates whose flip could change whether ``plan`` executes in a
+model of the family, or what it costs there.  Any selection that agrees with ``E`` on
+``support(plan)`` runs ``plan`` exactly as ``human + E`` does (same relevant atoms at every
+step, same preconditions, same cost) — see ``encodings/hitting-set.md`` for the argument.  That
+is what makes a learned clause ``NOT(E restricted to core ∪ support)`` generalise beyond ``E``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+
+from mega_sat.family import GroundFamily, GuardLit, PlanStep
+
+
+def support(family: GroundFamily, plan: Sequence[PlanStep]) -> frozenset[int]:
+    """Updates that can change ``plan``'s executability, goal achievement or cost."""
+    acts = [family.actions[family.action_index[s]] for s in plan]
+    relevant = {p for a in acts for p, _ in a.pre + a.negpre}
+    relevant.update(p for p, _ in family.goal)
+    out: set[int] = set()
+    for a in acts:
+        if a.exists:
+            out.add(a.exists[0])
+        out.update(g[0] for _, g in a.pre + a.negpre if g)
+        out.update(g[0] for p, g in a.add + a.delete if g and p in relevant)
+        out.update(i for guards, _ in a.cost for i, _ in guards)
+    out.update(g[0] for p, g in family.init if g and p in relevant)
+    out.update(g[0] for _, g in family.goal if g)
+    return frozenset(out)
+
+
+def exclusion_clause(selection: frozenset[int], on: Iterable[int]) -> tuple[GuardLit, ...]:
+    """The clause ``NOT(selection restricted to on)``: some update in ``on`` must differ."""
+    return tuple(sorted((i, i not in selection) for i in set(on)))
+
+
+def _relaxed_goal_reachable(family: GroundFamily, selection: frozenset[int],
+                            fixed: frozenset[int]) -> bool:
+    """Delete-relaxed reachability of the goal in the most permissive model that agrees with
+    ``selection`` on ``fixed``: an unfixed guard counts as present for initial atoms, add
+    effects and schema existence, and as absent for preconditions and goals."""
+
+    def present(g, helps: bool) -> bool:
+        if g is None:
+            return True
+        if g[0] not in fixed:
+            return helps
+        return (g[0] in selection) == g[1]
+
+    reached = {p for p, g in family.init if present(g, True)}
+    acts = [a for a in family.actions if present(a.exists, True)]
+    changed = True
+    while changed:
+        changed = False
+        rest = []
+        for a in acts:
+            if all(p in reached for p, g in a.pre if present(g, False)):
+                for p, g in a.add:
+                    if p not in reached and present(g, True):
+                        reached.add(p)
+                        changed = True
+            else:
+                rest.append(a)
+        acts = rest
+    return all(p in reached for p, g in family.goal if present(g, False))
+
+
+def unsolvable_core(family: GroundFamily, selection: frozenset[int]) -> frozenset[int] | None:
+    """A set ``S`` of updates such that every selection agreeing with ``selection`` on ``S`` has
+    a relaxed-unreachable goal (so no plan); ``None`` when relaxed reachability cannot show
+    ``human + selection`` unsolvable.  Found by deletion from all updates."""
+    fixed = frozenset(range(family.n_updates))
+    if _relaxed_goal_reachable(family, selection, fixed):
+        return None
+    for i in sorted(fixed):
+        trial = fixed - {i}
+        if not _relaxed_goal_reachable(family, selection, trial):
+            fixed = trial
+    return fixed
+
+
+def tight_support(family: GroundFamily, selection: frozenset[int],
+                  plan: Sequence[PlanStep]) -> tuple[GuardLit, ...]:
+    """Literals that keep ``plan`` executable at no higher cost in every selection satisfying
+    them, where ``plan`` runs in ``human + selection``.
+
+    Tighter than :func:`support` because a precondition (or goal) whose atom already holds at
+    that step of the plan's trajectory is satisfied whether or not the model has it: only
+    conditions that are absent *and* would fail must stay absent.  The trajectory of every
+    atom a condition mentions is kept identical by fixing the guards of its initial-state and
+    effect entries; schema existence and cost cases are fixed as well.  (Argument in
+    ``encodings/hitting-set.md``.)
+    """
+    from mega_sat.family import holds
+
+    acts = [family.actions[family.action_index[s]] for s in plan]
+    relevant = {p for a in acts for p, _ in a.pre + a.negpre}
+    relevant.update(p for p, _ in family.goal)
+    fixed: set[int] = set()
+    state = {p for p, g in family.init if holds(g, selection)}
+    fixed.update(g[0] for p, g in family.init if g and p in relevant)
+    for a in acts:
+        if a.exists:
+            fixed.add(a.exists[0])
+        for p, g in a.pre:
+            if g and p not in state:
+                fixed.add(g[0])  # absent now (else the plan would fail): must stay absent
+        for p, g in a.negpre:
+            if g and p in state:
+                fixed.add(g[0])
+        fixed.update(i for guards, _ in a.cost for i, _ in guards)
+        fixed.update(g[0] for p, g in a.add + a.delete if g and p in relevant)
+        dels = {p for p, g in a.delete if holds(g, selection)}
+        adds = {p for p, g in a.add if holds(g, selection)}
+        state = (state - dels) | adds
+    for p, g in family.goal:
+        if g and p not in state:
+            fixed.add(g[0])
+    return tuple(sorted((i, i in selection) for i in fixed))

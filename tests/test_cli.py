@@ -1,0 +1,223 @@
+"""The mega-sat command line, end to end: outputs, files written, and every user-error path
+(one line naming file, place and problem; the documented exit code; never a traceback)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from mega_sat.cli import main
+
+ROOT = Path(__file__).resolve().parent.parent
+USAR = ROOT / "domains" / "usar-fetch" / "p1"
+
+DOMAIN = """(define (domain d) (:requirements :strips :action-costs)
+ (:predicates (at ?x) (road ?x ?y))
+ (:functions (total-cost) - number)
+ (:action go :parameters (?x ?y) :precondition (and (at ?x) (road ?x ?y))
+  :effect (and (not (at ?x)) (at ?y) (increase (total-cost) 1))))"""
+PROBLEM = """(define (problem p) (:domain d) (:objects a b c)
+ (:init (at a) (road a b) (= (total-cost) 0)) (:goal (at {goal})) (:metric minimize (total-cost)))"""
+
+
+def run(*args: str):
+    return CliRunner().invoke(main, [str(a) for a in args])
+
+
+def _single_error_line(res) -> str:
+    lines = [ln for ln in res.output.splitlines() if ln.strip()]
+    assert len(lines) == 1, res.output
+    assert "Traceback" not in res.output
+    assert lines[0].startswith("error: ")
+    return lines[0]
+
+
+@pytest.fixture
+def toy(tmp_path):
+    (tmp_path / "d.pddl").write_text(DOMAIN)
+    (tmp_path / "p.pddl").write_text(PROBLEM.format(goal="b"))
+    (tmp_path / "unsolvable.pddl").write_text(PROBLEM.format(goal="c"))
+    return tmp_path
+
+
+def test_diff_usar():
+    res = run("diff", "--task", USAR)
+    assert res.exit_code == 0
+    assert res.output.splitlines() == [
+        "add-has-initial-state-clear_path p6 p7",
+        "add-has-initial-state-clear_path p7 p5",
+        "remove-has-initial-state-clear_path p1 p8",
+    ]
+    js = json.loads(run("diff", "--task", USAR, "--json").output)
+    assert js["size"] == 3
+
+
+def test_solve_usar_low_and_high_alpha():
+    low = run("solve", "--task", USAR, "--alpha", "0.1")
+    assert low.exit_code == 0, low.output
+    assert "Explanation >> remove-has-initial-state-clear_path p1 p8" in low.output
+    assert "(clear_passage p2 p3)" in low.output
+    assert low.output.count("Explanation >>") == 1
+    high = run("solve", "--task", USAR, "--alpha", "10")
+    assert high.exit_code == 0
+    assert [ln for ln in high.output.splitlines() if ln.startswith("Explanation >>")] == [
+        "Explanation >> add-has-initial-state-clear_path p6 p7",
+        "Explanation >> add-has-initial-state-clear_path p7 p5",
+        "Explanation >> remove-has-initial-state-clear_path p1 p8",
+    ]
+    assert "exact: yes" in high.output
+
+
+def test_solve_json_schema_and_verify():
+    res = run("solve", "--task", USAR, "--alpha", "0.1", "--json", "--verify")
+    assert res.exit_code == 0, res.output
+    d = json.loads(res.output)
+    for key in ("robot_optimal_cost", "model_difference", "frontier", "alpha", "chosen",
+                "engine", "exact", "time_s", "stats"):
+        assert key in d
+    assert d["exact"] is True and d["engine"] == "sat"
+    assert [len(p["explanation"]) for p in d["frontier"]] == sorted(
+        len(p["explanation"]) for p in d["frontier"])
+    for p in d["frontier"] + [d["chosen"]]:
+        assert set(p) >= {"explanation", "plan", "robot_cost", "human_cost"}
+    assert "objective" in d["chosen"]
+    assert all(v["ok"] for v in d["verify"])
+
+
+def test_frontier_both_engines_agree():
+    sat = json.loads(run("frontier", "--task", USAR, "--json").output)
+    ast = json.loads(run("frontier", "--task", USAR, "--json", "--engine", "astar").output)
+    pairs = lambda d: [(len(p["explanation"]), p["robot_cost"]) for p in d["frontier"]]  # noqa: E731
+    assert pairs(sat) == pairs(ast) == [(1, 8), (3, 4)]
+    assert ast["exact"] is False and ast["stats"]["nodes_expanded"] >= 1
+
+
+def test_write_model_and_verify_files(tmp_path):
+    out = tmp_path / "models"
+    res = run("solve", "--task", USAR, "--alpha", "0.1", "--write-model", out)
+    assert res.exit_code == 0, res.output
+    (point,) = list(out.iterdir())
+    for f in ("human-domain.pddl", "human-problem.pddl", "plan.ipc", "explanation.txt"):
+        assert (point / f).is_file()
+    # writing again without --force is refused, with --force allowed
+    again = run("solve", "--task", USAR, "--alpha", "0.1", "--write-model", out)
+    assert again.exit_code == 2 and "exists" in _single_error_line(again)
+    assert run("solve", "--task", USAR, "--alpha", "0.1", "--write-model", out,
+               "--force").exit_code == 0
+    ok = run("verify", "--task", USAR, "--explanation", point / "explanation.txt", "--plan",
+             point / "plan.ipc")
+    assert ok.exit_code == 0 and "verify: passed" in ok.output
+    # tampering: drop the explanation line -> the plan is no longer optimal for the human
+    (tmp_path / "empty.txt").write_text("")
+    bad = run("verify", "--task", USAR, "--explanation", tmp_path / "empty.txt", "--plan",
+              point / "plan.ipc")
+    assert bad.exit_code == 1 and "FAIL" in bad.output
+    # tampering: swap two plan steps -> not executable
+    steps = (point / "plan.ipc").read_text().splitlines()
+    steps[1], steps[2] = steps[2], steps[1]
+    (tmp_path / "swapped.ipc").write_text("\n".join(steps) + "\n")
+    bad2 = run("verify", "--task", USAR, "--explanation", point / "explanation.txt", "--plan",
+               tmp_path / "swapped.ipc")
+    assert bad2.exit_code == 1 and "FAIL valid in robot model" in bad2.output
+
+
+def test_explain_default_plan():
+    res = run("explain", "--task", USAR, "--json")
+    assert res.exit_code == 0, res.output
+    d = json.loads(res.output)
+    assert len(d["explanation"]) == 3 and d["exact"] is True
+
+
+def test_plan_validate_apply_encode(toy, tmp_path):
+    res = run("plan", "--domain", toy / "d.pddl", "--problem", toy / "p.pddl")
+    assert res.exit_code == 0
+    assert res.output.splitlines() == ["(go a b)", "; cost = 1 (general cost)"]
+    for planner in ("sat", "builtin"):
+        r = run("plan", "--domain", toy / "d.pddl", "--problem", toy / "p.pddl", "--planner",
+                planner, "--json")
+        assert json.loads(r.output)["cost"] == 1
+    (tmp_path / "plan.ipc").write_text("(go a b)\n")
+    ok = run("validate", "--plan", tmp_path / "plan.ipc", "--domain", toy / "d.pddl",
+             "--problem", toy / "p.pddl")
+    assert ok.exit_code == 0 and "valid: 1 steps, cost 1" in ok.output
+    (tmp_path / "bad.ipc").write_text("(go b a)\n")
+    bad = run("validate", "--plan", tmp_path / "bad.ipc", "--domain", toy / "d.pddl",
+              "--problem", toy / "p.pddl")
+    assert bad.exit_code == 1 and "step 1" in bad.output and "(at b)" in bad.output
+    # apply writes human + E; encode writes DIMACS files
+    (tmp_path / "e.txt").write_text("remove-has-initial-state-clear_path p1 p8\n")
+    ap = run("apply", "--task", USAR, "--explanation", tmp_path / "e.txt", "--out",
+             tmp_path / "hE")
+    assert ap.exit_code == 0
+    assert "clear_path p1 p8" not in (tmp_path / "hE" / "problem.pddl").read_text()
+    en = run("encode", "--task", USAR, "--out", tmp_path / "cnf")
+    assert en.exit_code == 0, en.output
+    assert any(p.suffix == ".cnf" for p in (tmp_path / "cnf").iterdir())
+
+
+# ----------------------------------------------------------------------------- error paths
+
+
+def test_error_malformed_pddl(toy):
+    (toy / "broken.pddl").write_text("(define (domain d) (:predicates (at ?x)")
+    res = run("plan", "--domain", toy / "broken.pddl", "--problem", toy / "p.pddl")
+    assert res.exit_code == 2
+    assert "broken.pddl" in _single_error_line(res)
+
+
+def test_error_unsupported_construct(toy):
+    (toy / "when.pddl").write_text(DOMAIN.replace("(at ?y)", "(when (at ?x) (at ?y))"))
+    res = run("plan", "--domain", toy / "when.pddl", "--problem", toy / "p.pddl")
+    line = _single_error_line(res)
+    assert res.exit_code == 2 and "when.pddl" in line and "when" in line and "line" in line
+
+
+def test_error_unsolvable_robot(toy):
+    res = run("plan", "--domain", toy / "d.pddl", "--problem", toy / "unsolvable.pddl")
+    assert res.exit_code == 3 and "no plan" in _single_error_line(res)
+    res = run("solve", "--robot-domain", toy / "d.pddl", "--robot-problem",
+              toy / "unsolvable.pddl", "--human-domain", toy / "d.pddl", "--alpha", "1")
+    line = _single_error_line(res)
+    assert res.exit_code == 3 and "unsolvable.pddl" in line and "no plan" in line
+
+
+def test_error_mismatched_signatures(toy):
+    (toy / "h.pddl").write_text(DOMAIN.replace(":parameters (?x ?y)", ":parameters (?x ?y ?z)"))
+    res = run("diff", "--robot-domain", toy / "d.pddl", "--robot-problem", toy / "p.pddl",
+              "--human-domain", toy / "h.pddl")
+    line = _single_error_line(res)
+    assert res.exit_code == 2 and "'go'" in line and "parameter" in line
+
+
+@pytest.mark.parametrize("alpha", ["-1", "abc", "nan", "inf"])
+def test_error_bad_alpha(alpha):
+    res = run("solve", "--task", USAR, "--alpha", alpha)
+    line = _single_error_line(res)
+    assert res.exit_code == 2 and "alpha" in line
+
+
+def test_error_unknown_update(tmp_path):
+    (tmp_path / "e.txt").write_text("add-has-initial-state-clear_path p9 p9\n")
+    res = run("apply", "--task", USAR, "--explanation", tmp_path / "e.txt", "--out",
+              tmp_path / "o")
+    line = _single_error_line(res)
+    assert res.exit_code == 2 and "e.txt: line 1" in line and "not an update" in line
+
+
+def test_error_missing_task_files(tmp_path):
+    res = run("diff", "--task", tmp_path)
+    assert res.exit_code == 2 and "robot-problem.pddl" in _single_error_line(res)
+    res = run("diff", "--robot-domain", USAR.parent / "robot-domain.pddl")
+    assert res.exit_code == 2 and "--robot-problem" in _single_error_line(res)
+
+
+def test_error_apply_refuses_overwrite(tmp_path):
+    (tmp_path / "e.txt").write_text("")
+    out = tmp_path / "hE"
+    assert run("apply", "--task", USAR, "--explanation", tmp_path / "e.txt", "--out",
+               out).exit_code == 0
+    res = run("apply", "--task", USAR, "--explanation", tmp_path / "e.txt", "--out", out)
+    assert res.exit_code == 2 and "exists" in _single_error_line(res)

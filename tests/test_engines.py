@@ -1,0 +1,172 @@
+"""Both MEGA engines and MCE against the brute-force oracle, on random small tasks.
+
+The oracle (mega_sat.bruteforce) enumerates every subset of Delta and uses explicit-state
+Dijkstra over paired (robot, human) states; it shares no code with the SAT encoding, the
+hitting-set loop or the A* model-space search.
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from minitasks import usar_like
+from randomtasks import two_model_tasks
+from tradeoff_tasks import tradeoff_tasks
+
+from mega_sat.astar_engine import astar_frontier, astar_solve
+from mega_sat.bruteforce import brute_force_frontier, brute_force_mce
+from mega_sat.errors import UnsolvableError
+from mega_sat.grounding import ground
+from mega_sat.mce import minimal_explanation
+from mega_sat.oracles import SatOracles
+from mega_sat.results import choose
+from mega_sat.sat_engine import sat_frontier
+from mega_sat.verify import verify_pair
+
+SETTINGS = settings(
+    max_examples=150,
+    deadline=None,
+    derandomize=True,
+    suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much],
+)
+
+
+# plain random tasks (odd corners: costs from functions, schemas one model lacks, no plans)
+# and route maps with real trade-offs (multi-point frontiers)
+TASKS = st.one_of(two_model_tasks(max_delta=6), tradeoff_tasks())
+
+
+def _solvable(task):
+    fam = ground(task)
+    try:
+        c_r, pts, results = brute_force_frontier(task, fam, state_limit=20_000)
+    except ValueError:
+        return None
+    return fam, c_r, pts, results
+
+
+def _pairs(points):
+    return [(p.size, p.robot_cost) for p in points]
+
+
+@SETTINGS
+@given(TASKS, st.sampled_from(["rc2", "ilp"]))
+def test_sat_frontier_equals_brute_force(task, hs):
+    got = _solvable(task)
+    if got is None:
+        with pytest.raises(UnsolvableError):
+            sat_frontier(task, ground(task))
+        return
+    fam, c_r, pts, results = got
+    fr = sat_frontier(task, fam, hitting_set=hs)
+    assert fr.robot_optimal_cost == c_r
+    assert _pairs(fr.points) == _pairs(pts)
+    assert fr.complete
+    if fam.min_cost > 0:
+        assert fr.exact
+    for p in fr.points:
+        # the witness is a real MEGA solution: the oracle's best for that E is no worse
+        r = results[p.selection]
+        assert r.robot_cost is not None and r.robot_cost <= p.robot_cost
+        assert r.human_cost == p.human_cost
+        rep = verify_pair(
+            task,
+            fam,
+            p.selection,
+            p.plan,
+            producer="sat",
+            robot_cost=p.robot_cost,
+            human_cost=p.human_cost,
+            use_val=False,
+        )
+        assert rep.ok, rep.lines()
+
+
+@SETTINGS
+@given(TASKS)
+def test_mce_equals_brute_force(task):
+    got = _solvable(task)
+    if got is None:
+        return
+    fam = got[0]
+    orc = SatOracles(fam)
+    robot = orc.robot_optimal()
+    ex = minimal_explanation(task, fam, robot.plan, oracles=orc)
+    assert len(ex.explanation) == brute_force_mce(task, fam, robot.plan, state_limit=20_000)
+    assert ex.robot_cost == robot.cost
+    assert ex.human_cost == orc.opt(ex.selection).cost
+
+
+@SETTINGS
+@given(TASKS, st.sampled_from([0, 0.3, 1, 2.5, 10]))
+def test_astar_never_better_than_sat(task, alpha):
+    got = _solvable(task)
+    if got is None:
+        return
+    fam, c_r, pts, _ = got
+    fr = sat_frontier(task, fam)
+    sat = choose(fr, alpha)
+    ast = astar_solve(task, fam, alpha, planner="builtin")
+    a = Fraction(repr(float(alpha)))
+    obj_sat = sat.chosen.size + a * (sat.chosen.robot_cost - c_r)
+    obj_ast = ast.chosen.size + a * (ast.chosen.robot_cost - c_r)
+    assert obj_sat <= obj_ast
+    assert verify_pair(
+        task, fam, ast.chosen.selection, ast.chosen.plan, producer="builtin", use_val=False
+    ).ok
+    # where ties among optimal plans cannot matter (every human-optimal plan of every model
+    # the search visits has the same robot cost), the baseline finds the same optimum
+    afr = astar_frontier(task, fam, planner="builtin")
+    for p in afr.points:
+        assert any(q.size <= p.size and q.robot_cost <= p.robot_cost for q in fr.points)
+
+
+@SETTINGS
+@given(TASKS)
+def test_paper_properties(task):
+    got = _solvable(task)
+    if got is None:
+        return
+    fam, c_r, pts, results = got
+    fr = sat_frontier(task, fam)
+    n = len(task.delta)
+    # property 3: alpha = 0 gives the most explicable plan (smallest |E| of any solution)
+    smallest = min(len(s) for s, r in results.items() if r.robot_cost is not None)
+    assert choose(fr, 0).chosen.size == smallest
+    # property 2: alpha >= |Delta| gives a robot-optimal plan with the minimum explanation
+    high = choose(fr, max(n, 1) + 0.5).chosen
+    assert high.robot_cost == c_r
+    assert high.size == min(len(s) for s, r in results.items() if r.robot_cost == c_r)
+    # property 4: the frontier's robot-optimal end is the smallest E for *some* robot-optimal
+    # plan, never larger than the MCE of one fixed robot-optimal plan
+    orc = SatOracles(fam)
+    mce = minimal_explanation(task, fam, orc.robot_optimal().plan, oracles=orc)
+    assert fr.points[-1].robot_cost == c_r
+    assert fr.points[-1].size <= len(mce.explanation)
+
+
+def test_usar_like_frontier_both_engines():
+    task = usar_like()
+    fam = ground(task)
+    fr = sat_frontier(task, fam)
+    assert _pairs(fr.points) == [(1, 7), (3, 3)]
+    assert fr.exact and fr.robot_optimal_cost == 3
+    assert fr.points[0].explanation == ("remove-has-initial-state-clear_path s a",)
+    low, high = choose(fr, 0.1).chosen, choose(fr, 10).chosen
+    assert ("clear_passage", "s", "a") in low.plan and low.robot_cost == 7
+    assert high.robot_cost == 3 and high.size == 3
+    afr = astar_frontier(task, fam, planner="builtin")
+    assert _pairs(afr.points) == [(1, 7), (3, 3)]
+    assert afr.stats["nodes_expanded"] >= 4
+
+
+def test_anytime_returns_lower_bound():
+    task = usar_like()
+    fam = ground(task)
+    fr = sat_frontier(task, fam, timeout=1e-9)
+    assert not fr.complete and not fr.exact
+    assert fr.next_size_lower_bound is not None
+    assert any("time limit" in n for n in fr.notes)
