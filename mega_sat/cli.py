@@ -554,5 +554,13 @@ def generate_suite(domains_dir, deltas, seed, force):
                 click.echo(f"{out}: |Delta| = {len(g.updates)}")
 
 
+def _register_bench() -> None:
+    from mega_sat.benchmark import bench_command
+
+    main.add_command(bench_command, "bench")
+
+
+_register_bench()
+
 if __name__ == "__main__":  # pragma: no cover
     main()

@@ -1,0 +1,214 @@
+"""The benchmark harness: a real smoke run through subprocess workers, and the table formatting
+(speedups with time-outs) on fabricated records."""
+
+from __future__ import annotations
+
+import csv
+import json
+import re
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from mega_sat.benchmark import (
+    bench_command,
+    disagreements,
+    fmt_seconds,
+    fmt_speedup,
+    paper_table,
+    render_markdown,
+    scaling_table,
+    speedup,
+    summary,
+)
+
+
+def _cells(line: str) -> list[str]:
+    """Cells of a markdown row; ``\\|`` inside a cell is an escaped pipe, not a separator."""
+    return [c.strip() for c in re.split(r"(?<!\\)\|", line.strip().strip("|"))]
+
+
+DOMAINS = Path(__file__).resolve().parent.parent / "domains"
+
+
+def _rec(
+    dom,
+    prob,
+    delta,
+    engine,
+    status="ok",
+    seconds=1.0,
+    e=2,
+    limit=60.0,
+    suite="paper",
+    objective=None,
+):
+    return {
+        "suite": suite,
+        "domain": dom,
+        "problem": prob,
+        "delta": delta,
+        "engine": engine,
+        "planner": "fd" if engine == "astar" else "sat",
+        "status": status,
+        "seconds": seconds if status == "ok" else None,
+        "time_limit_s": limit,
+        "E_ropt": e if status == "ok" else None,
+        "objective_alpha1": float(objective if objective is not None else e),
+        "robot_optimal_cost": 10,
+    }
+
+
+# --------------------------------------------------------------------------- formatting
+
+
+def test_speedup_both_finished():
+    v, kind = speedup(
+        _rec("d", "p1", 2, "astar", seconds=30.0), _rec("d", "p1", 2, "sat", seconds=0.5)
+    )
+    assert kind == "exact" and v == pytest.approx(60.0)
+    assert (
+        fmt_speedup(
+            _rec("d", "p1", 2, "astar", seconds=30.0), _rec("d", "p1", 2, "sat", seconds=0.5)
+        )
+        == "60.0"
+    )
+
+
+def test_speedup_astar_timeout_is_a_lower_bound():
+    a = _rec("d", "p1", 10, "astar", status="timeout", limit=300.0)
+    s = _rec("d", "p1", 10, "sat", seconds=2.0)
+    v, kind = speedup(a, s)
+    assert kind == "lower" and v == pytest.approx(150.0)
+    assert fmt_speedup(a, s) == "> 150"
+    assert fmt_seconds(a) == "> 300"
+
+
+def test_speedup_sat_timeout_is_an_upper_bound_and_both_timeout_is_unknown():
+    a = _rec("d", "p1", 10, "astar", seconds=6.0)
+    s = _rec("d", "p1", 10, "sat", status="timeout", limit=60.0)
+    assert fmt_speedup(a, s) == "< 0.10"
+    a2 = _rec("d", "p1", 10, "astar", status="timeout")
+    assert speedup(a2, s) == (None, "none")
+    assert fmt_speedup(a2, s) == "—"
+    assert fmt_speedup(None, s) == "—"
+    assert fmt_speedup(_rec("d", "p1", 2, "astar", status="error"), s) == "—"
+    assert fmt_seconds(_rec("d", "p1", 2, "astar", status="error")) == "err"
+
+
+def _grid():
+    recs = []
+    for prob, a10 in (("p1", 100.0), ("p2", None), ("p3", 40.0)):
+        for k in (2, 7, 10):
+            a_status = "timeout" if (k == 10 and a10 is None) else "ok"
+            recs.append(
+                _rec(
+                    "rover",
+                    prob,
+                    k,
+                    "astar",
+                    status=a_status,
+                    seconds=(a10 or 1.0) if k == 10 else 1.0,
+                    e=3,
+                )
+            )
+            recs.append(_rec("rover", prob, k, "sat", seconds=2.0 if k == 10 else 0.5, e=3))
+    return recs
+
+
+def test_paper_table_layout_and_summary():
+    recs = _grid()
+    table = paper_table(recs)
+    lines = table.strip().splitlines()
+    assert len(lines) == 2 + 3  # header, rule, three problems
+    header = _cells(lines[0])
+    assert header[:2] == ["Domain", "Problem"] and len(header) == 2 + 3 * 5
+    p2 = _cells(lines[3])
+    assert p2[0] == "rover" and p2[1] == "p2"
+    # Delta = 10 block of p2: |E| astar, s astar, |E| sat, s sat, speedup
+    assert p2[12:17] == ["—", "> 60.0", "3", "2.00", "> 30.0"]
+    p1 = _cells(lines[2])
+    assert p1[12:17] == ["3", "100", "3", "2.00", "50.0"]
+    s = summary(recs)
+    assert "Median speedup" in s[0] and "30.0" in s[0] and "lower bound" in s[0]
+    assert "2.00 s" in s[1]
+    assert "not run" in s[2]
+
+
+def test_disagreements_classify_tie_weakness_and_bugs():
+    recs = [
+        _rec("d", "p1", 7, "astar", e=5),
+        _rec("d", "p1", 7, "sat", e=4),
+        _rec("d", "p2", 7, "astar", e=2),
+        _rec("d", "p2", 7, "sat", e=3),
+        _rec("d", "p3", 7, "astar", status="timeout"),
+        _rec("d", "p3", 7, "sat", e=9),
+    ]
+    dis = disagreements(recs)
+    by = {(d["problem"], d["column"]): d["kind"] for d in dis}
+    assert by[("p1", "E_ropt")].startswith("astar tie weakness")
+    assert by[("p2", "E_ropt")].startswith("BUG")
+    assert not any(p == "p3" for p, _ in by)
+    assert "†" in paper_table(recs)
+
+
+def test_scaling_table_counts_astar_timeouts():
+    recs = [
+        _rec("d", "p1", 15, "astar", suite="scaling"),
+        _rec("d", "p1", 15, "sat", suite="scaling"),
+        _rec("d", "p1", 20, "astar", status="timeout", suite="scaling"),
+        _rec("d", "p1", 20, "sat", seconds=3.0, suite="scaling"),
+    ]
+    text = scaling_table(recs)
+    assert "| 20 | 1 | 0 | 1 | 1 | 0 |" in text
+    assert "d/p1 Δ=20" in text
+    md = render_markdown(recs, {"cpu": "x", "cores": 1}, ())
+    assert "## Scaling" in md and "Paper grid" not in md
+
+
+# --------------------------------------------------------------------------- smoke run
+
+
+@pytest.mark.skipif(not (DOMAINS / "usar-fetch" / "p1").is_dir(), reason="usar-fetch absent")
+def test_smoke_suite_end_to_end(tmp_path):
+    out = tmp_path / "res"
+    r = CliRunner().invoke(
+        bench_command,
+        [
+            "--suite",
+            "smoke",
+            "--domains",
+            str(DOMAINS),
+            "--baseline-planner",
+            "builtin",
+            "--out",
+            str(out),
+            "--time-limit",
+            "60",
+            "--no-progress",
+        ],
+    )
+    assert r.exit_code == 0, r.output
+    for name in ("results.json", "results.csv", "table.md"):
+        assert (out / name).is_file()
+    data = json.loads((out / "results.json").read_text())
+    assert data["machine"]["cores"] and data["machine"]["python"]
+    recs = {r["engine"]: r for r in data["records"]}
+    assert set(recs) == {"astar", "sat"}
+    assert all(r["status"] == "ok" for r in recs.values()), recs
+    assert recs["astar"]["E_ropt"] == recs["sat"]["E_ropt"]
+    assert recs["astar"]["robot_optimal_cost"] == recs["sat"]["robot_optimal_cost"]
+    assert recs["astar"]["planner"] == "builtin"
+    assert recs["sat"]["exact"] is True and recs["sat"]["peak_rss_mb"] > 0
+    assert recs["sat"]["robot_call_builtin_s"] is not None
+    assert recs["sat"]["ratio_sat_vs_builtin_call"] is not None
+    assert recs["astar"]["nodes_expanded"] >= 1 and recs["sat"]["iterations"] >= 1
+    with (out / "results.csv").open() as f:
+        rows = list(csv.DictReader(f))
+    assert {row["engine"] for row in rows} == {"astar", "sat"}
+    assert {row["status"] for row in rows} == {"ok"}
+    assert len({row["E_ropt"] for row in rows}) == 1
+    md = (out / "table.md").read_text()
+    assert "usar-fetch/p1 astar" in md and "usar-fetch/p1 sat" in md
+    assert "None where both engines finished" in md
