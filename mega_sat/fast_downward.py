@@ -109,7 +109,11 @@ def fd_plan(
         Path(dom).write_text(domain_text)
         Path(prob).write_text(problem_text)
         cmd = [sys.executable, str(script), "--plan-file", plan_file, dom, prob]
-        cmd += ["--search", search]
+        # No mutex invariants: with them, a delete of an atom the action does not require
+        # becomes a conditional effect, which astar(lmcut()) refuses ("unsupported feature").
+        # Binary variables keep plain STRIPS semantics and optimal costs are unchanged.
+        cmd += ["--translate-options", "--invariant-generation-max-candidates", "0"]
+        cmd += ["--search-options", "--search", search]
         # the time limit is wall-clock and enforced here: FD's own --overall-time-limit is CPU
         # time rounded down per component (a 1 s limit leaves the translator 0 s).  FD runs
         # in its own process group so the translator and search die with the driver.

@@ -4,7 +4,8 @@ The A* baseline calls this at every node of its model-space search, MCE and veri
 too.  Three planners answer the same question (optimal cost and one optimal plan of
 ``human + E``):
 
-* ``builtin`` — explicit-state A* with LM-cut on the ground task (:mod:`mega_sat.search`);
+* ``builtin`` — explicit-state search on the ground task: uniform-cost, then A* with LM-cut
+  (:func:`mega_sat.search.solve_optimal`);
 * ``sat``     — the OPT oracle of the SAT encoding (:mod:`mega_sat.oracles`);
 * ``fd``      — Fast Downward ``astar(lmcut())`` on PDDL files of the model, the paper's set-up.
 """
@@ -15,7 +16,7 @@ import time
 from dataclasses import dataclass
 
 from mega_sat.errors import PlannerError, UsageError
-from mega_sat.family import GroundFamily, PlanStep
+from mega_sat.family import GroundFamily, GroundTask, PlanStep
 from mega_sat.task import TwoModelTask
 
 PLANNERS = ("builtin", "sat", "fd")
@@ -77,9 +78,9 @@ class NodePlanner:
             # the empty plan is optimal (costs are >= 0); some planners refuse such tasks
             return NodePlan("optimal", (), 0, True, self.kind, time.perf_counter() - t0)
         if self.kind == "builtin":
-            from mega_sat.search import astar
+            from mega_sat.search import solve_optimal
 
-            r = astar(task, heuristic="lmcut", time_limit=self.time_limit)
+            r = solve_optimal(task, time_limit=self.time_limit)
             status = r.status if r.status in ("optimal", "unsolvable") else "unknown"
             return NodePlan(status, r.plan, r.cost, status != "unknown", "builtin",
                             time.perf_counter() - t0, "" if status != "unknown" else r.status)
@@ -91,7 +92,23 @@ class NodePlanner:
         from mega_sat.pddl_writer import domain_to_pddl, problem_to_pddl
 
         model = self.task.updated_model(sel)
-        r = fd_plan(domain_to_pddl(model), problem_to_pddl(model), time_limit=self.time_limit)
+        r = None
+        if not any(s.negpre for s in model.schemas.values()):
+            try:
+                r = fd_plan(domain_to_pddl(model), problem_to_pddl(model),
+                            time_limit=self.time_limit)
+            except PlannerError as e:
+                if "exit code 34" not in str(e):
+                    raise
+        if r is None:
+            # FD compiles negative preconditions (and some add/delete overlaps) into axioms or
+            # conditional effects, which LM-cut rejects: hand it the ground model with those
+            # compiled away instead (same plans, same costs)
+            dom, prob, names = ground_strips_pddl(task)
+            r = fd_plan(dom, prob, time_limit=self.time_limit)
+            if r.status == "optimal" and r.plan is not None:
+                plan = tuple(names[s[0]] for s in r.plan)
+                return NodePlan("optimal", plan, r.cost, True, "fd", time.perf_counter() - t0)
         status = r.status if r.status in ("optimal", "unsolvable") else "unknown"
         if status == "optimal" and r.plan is not None:
             # FD may print names in another case or order; map back onto the family's steps
@@ -103,3 +120,44 @@ class NodePlanner:
             return NodePlan("optimal", plan, r.cost, True, "fd", time.perf_counter() - t0)
         return NodePlan(status, None, None, status != "unknown", "fd", time.perf_counter() - t0,
                         r.status)
+
+
+def ground_strips_pddl(task: GroundTask) -> tuple[str, str, dict[str, PlanStep]]:
+    """``task`` as ground STRIPS PDDL without negative preconditions.
+
+    Every atom ``p`` tested negatively gets a complement atom kept exactly in sync per ground
+    action (an action that adds and deletes ``p`` adds it, as PDDL says).  Returns the domain,
+    the problem and a map from action names back to plan steps.
+    """
+    neg = sorted({p for a in task.actions for p in a.negpre})
+    comp = {p: len(task.atoms) + k for k, p in enumerate(neg)}
+    n_atoms = len(task.atoms) + len(neg)
+
+    def atom(i: int) -> str:
+        return f"(a{i})"
+
+    actions, names = [], {}
+    for k, a in enumerate(task.actions):
+        adds = set(a.add)
+        dels = set(a.delete) - adds
+        pre = [atom(p) for p in sorted(a.pre)] + [atom(comp[p]) for p in sorted(a.negpre)]
+        eff = [atom(p) for p in sorted(adds)] + [f"(not {atom(p)})" for p in sorted(dels)]
+        eff += [f"(not {atom(comp[p])})" for p in sorted(adds) if p in comp]
+        eff += [atom(comp[p]) for p in sorted(dels) if p in comp]
+        eff.append(f"(increase (total-cost) {a.cost})")
+        name = f"act{k}"
+        names[name] = a.step
+        actions.append(f"  (:action {name}\n    :parameters ()\n"
+                       f"    :precondition (and {' '.join(pre)})\n"
+                       f"    :effect (and {' '.join(eff)}))")
+    preds = " ".join(f"(a{i})" for i in range(n_atoms))
+    domain = ("(define (domain ground)\n  (:requirements :strips :action-costs)\n"
+              f"  (:predicates {preds})\n  (:functions (total-cost) - number)\n"
+              + "\n".join(actions) + ")\n")
+    init = [atom(p) for p in sorted(task.init)]
+    init += [atom(comp[p]) for p in neg if p not in task.init]
+    goal = " ".join(atom(p) for p in sorted(task.goal))
+    problem = ("(define (problem ground-p) (:domain ground)\n"
+               f"  (:init {' '.join(init)} (= (total-cost) 0))\n"
+               f"  (:goal (and {goal}))\n  (:metric minimize (total-cost)))\n")
+    return domain, problem, names
