@@ -257,8 +257,14 @@ def encode(kind, explanation, robot_bound, human_bound, out_dir, force, verbose,
     out = Path(out_dir)
     if out.exists() and any(out.iterdir()) and not force:
         raise UsageError("output folder is not empty (use --force to overwrite)", path=out_dir)
-    files = export(fam, sel, kind=kind, out_dir=out, robot_bound=robot_bound,
-                   human_bound=human_bound)
+    for name, v in (("--robot-bound", robot_bound), ("--human-bound", human_bound)):
+        if v is not None and v < 0:
+            raise UsageError(f"{name} must be >= 0, got {v}")
+    try:
+        files = export(fam, sel, kind=kind, out_dir=out, robot_bound=robot_bound,
+                       human_bound=human_bound, update_names=[u.name for u in task.delta])
+    except ValueError as e:
+        raise UsageError(str(e)) from None
     for name, path in files.items():
         click.echo(f"{name}: {path}")
 
@@ -366,7 +372,8 @@ def solve(alpha, engine, planner, hitting_set, timeout, as_json, do_verify, writ
     elapsed = time.perf_counter() - t0
     reports = _verify_points(s, [sol.chosen]) if do_verify else []
     if write_model:
-        _write_models(s, [sol.chosen], write_model, force)
+        for path in _write_models(s, [sol.chosen], write_model, force):
+            click.echo(f"; wrote {path}", err=True)
     fr = sol.frontier
     if as_json:
         d = sol.to_dict()
@@ -403,7 +410,8 @@ def frontier(engine, planner, hitting_set, timeout, as_json, do_verify, write_mo
     fr = s.frontier()
     reports = _verify_points(s, fr.points) if do_verify else []
     if write_model:
-        _write_models(s, fr.points, write_model, force)
+        for path in _write_models(s, fr.points, write_model, force):
+            click.echo(f"; wrote {path}", err=True)
     if as_json:
         d = fr.to_dict()
         if do_verify:
@@ -480,8 +488,10 @@ def explain(plan_file, planner, hitting_set, timeout, as_json, do_verify, verbos
 @task_options
 @click.option("--explanation", type=click.Path(), required=True)
 @click.option("--plan", "plan_file", type=click.Path(), required=True)
-@click.option("--checker", type=PLANNER, default="builtin", show_default=True,
-              help="Planner that re-derives the optimum of human + E.")
+@click.option("--checker", type=PLANNER, default=None,
+              help="Planner that re-derives the optimum of human + E (default: fd when "
+                   "installed, else sat: not the built-in planner that produces answers by "
+                   "default).")
 @click.option("--json", "as_json", is_flag=True)
 @_friendly
 def verify(explanation, plan_file, checker, as_json, verbose, **kw):
@@ -493,7 +503,7 @@ def verify(explanation, plan_file, checker, as_json, verbose, **kw):
     task = _task_from(kw)
     sel = _read_explanation(task, explanation)
     steps = read_plan(plan_file)
-    rep = verify_pair(task, ground(task), sel, steps, checker=checker)
+    rep = verify_pair(task, ground(task), sel, steps, producer="builtin", checker=checker)
     if as_json:
         click.echo(json.dumps(rep.to_dict(), indent=2))
     else:
@@ -544,14 +554,23 @@ def generate_suite(domains_dir, deltas, seed, force):
     doms = sorted(d for d in root.iterdir() if (d / "robot-domain.pddl").is_file())
     if not doms:
         raise UsageError("no domain folders with robot-domain.pddl", path=domains_dir)
+    failed = []
     for d in doms:
         for prob in sorted(p for p in d.iterdir() if (p / "robot-problem.pddl").is_file()):
             for k in ks:
                 s = instance_seed(seed, d.name, prob.name, k)
                 out = d / "delta" / str(k) / prob.name
-                g = write_instance(d / "robot-domain.pddl", prob / "robot-problem.pddl", k, s,
-                                   out, overwrite=force)
+                try:
+                    g = write_instance(d / "robot-domain.pddl", prob / "robot-problem.pddl", k,
+                                       s, out, overwrite=force)
+                except MegaSatError as e:
+                    failed.append(out)
+                    click.echo(f"{out}: skipped: {e.message}", err=True)
+                    continue
                 click.echo(f"{out}: |Delta| = {len(g.updates)}")
+    if failed:
+        click.echo(f"{len(failed)} instance(s) not generated", err=True)
+        sys.exit(1)
 
 
 def _register_bench() -> None:

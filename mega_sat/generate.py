@@ -77,22 +77,25 @@ def _static_preds(m: Model) -> set[str]:
 
 
 def generate_human(robot: Model, k: int, seed: int, *, max_attempts: int = 200,
-                   time_limit: float = 10.0) -> Generated:
+                   time_limit: float = 30.0) -> Generated:
     """A human model with ``|Delta| == k`` against ``robot``, both problems solvable.
 
     A candidate ``Update(f, True)`` above means "the robot has f and the human will not"
     (a removal from the human's view); ``Update(f, False)`` "the human will believe f".
     """
     from mega_sat.grounding import ground_model
-    from mega_sat.search import astar
+    from mega_sat.search import solve_optimal
     from mega_sat.task import TwoModelTask
 
     if k < 0:
         raise UsageError(f"--delta must be >= 0, got {k}")
     rt = ground_model(robot)
-    r = astar(rt, heuristic="lmcut", time_limit=time_limit)
-    if r.status != "optimal":
+    r = solve_optimal(rt, time_limit=time_limit)
+    if r.status == "unsolvable":
         raise UnsolvableError("the robot problem has no plan; nothing to generate from")
+    if r.status != "optimal":
+        raise UsageError(f"no plan of the robot problem found within {time_limit:g}s; "
+                         "cannot check that generated models stay solvable")
     reachable = frozenset(rt.atoms)
     cands = _candidate_updates(robot, reachable)
     if len(cands) < k:
@@ -107,7 +110,7 @@ def generate_human(robot: Model, k: int, seed: int, *, max_attempts: int = 200,
         task = TwoModelTask.from_models(robot, human)
         if len(task.delta) != k:
             continue
-        h = astar(ground_model(human), heuristic="lmcut", time_limit=time_limit)
+        h = solve_optimal(ground_model(human), time_limit=time_limit)
         if h.status != "optimal":
             continue
         return Generated(human, task.delta, attempt)

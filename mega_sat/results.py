@@ -158,6 +158,11 @@ def choose(frontier: Frontier, alpha: float) -> Solution:
     """
     if not alpha >= 0:
         raise ValueError("alpha must be a number >= 0")
+    if not frontier.points:
+        from mega_sat.errors import UnsolvableError
+
+        raise UnsolvableError("no MEGA solution found" + (
+            "" if frontier.complete else " before the time limit (try a larger --timeout)"))
     c = frontier.robot_optimal_cost
     a = exact_alpha(alpha)
     best = min(frontier.points, key=lambda p: (p.size + a * (p.robot_cost - c), p.robot_cost, p.size))

@@ -23,8 +23,8 @@ def _rename(atoms: frozenset[Atom], ren: dict[str, str]) -> frozenset[Atom]:
     return frozenset((a[0],) + tuple(ren.get(x, x) for x in a[1:]) for a in atoms)
 
 
-def align_human(robot: Model, human: Model, *, robot_name: str = "robot domain",
-                human_name: str = "human domain", robot_problem_name: str | None = None,
+def align_human(robot: Model, human: Model, *, robot_name: str = "the robot domain",
+                human_name: str = "the human domain", robot_problem_name: str | None = None,
                 human_problem_name: str | None = None) -> Model:
     """Rename the human's schema parameters to the robot's, matching them by position.
 
@@ -35,15 +35,15 @@ def align_human(robot: Model, human: Model, *, robot_name: str = "robot domain",
     for p, n in human.predicates.items():
         if p in robot.predicates and robot.predicates[p] != n:
             raise ModelMismatchError(
-                f"predicate '{p}' has {robot.predicates[p]} argument(s) in the {robot_name} "
-                f"but {n} in the {human_name}")
+                f"predicate '{p}' has {robot.predicates[p]} argument(s) in {robot_name} "
+                f"but {n} in {human_name}")
     for term in set(robot.functions) ^ set(human.functions):
         if term in robot.functions:
             side = robot_problem_name or robot_name.replace("domain", "problem")
         else:
             side = human_problem_name or human_name.replace("domain", "problem")
         raise ModelMismatchError(
-            f"cost function value ({' '.join(term)}) is defined only in the {side}")
+            f"cost function value ({' '.join(term)}) is defined only in {side}")
     schemas: dict[str, Schema] = {}
     for name, hs in human.schemas.items():
         rs = robot.schemas.get(name)
@@ -52,8 +52,8 @@ def align_human(robot: Model, human: Model, *, robot_name: str = "robot domain",
             continue
         if len(rs.params) != len(hs.params):
             raise ModelMismatchError(
-                f"action '{name}' has {len(rs.params)} parameter(s) in the {robot_name} but "
-                f"{len(hs.params)} in the {human_name}")
+                f"action '{name}' has {len(rs.params)} parameter(s) in {robot_name} but "
+                f"{len(hs.params)} in {human_name}")
         ren = dict(zip(hs.params, rs.params, strict=True))
         cost = hs.cost
         if not isinstance(cost, int):
@@ -85,8 +85,8 @@ class TwoModelTask:
                     sources: dict[str, str] | None = None) -> TwoModelTask:
         sources = sources or {}
         human = align_human(robot, human,
-                            robot_name=sources.get("robot_domain", "robot domain"),
-                            human_name=sources.get("human_domain", "human domain"),
+                            robot_name=sources.get("robot_domain", "the robot domain"),
+                            human_name=sources.get("human_domain", "the human domain"),
                             robot_problem_name=sources.get("robot_problem"),
                             human_problem_name=sources.get("human_problem"))
         return cls(robot, human, model_difference(robot, human), dict(sources))

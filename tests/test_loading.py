@@ -84,7 +84,7 @@ def test_load_task_from_strings_mismatch_names_models():
                                                 "human-domain.pddl", "human-problem.pddl")]  # fmt: skip
     with pytest.raises(ModelMismatchError) as info:
         load_task_from_strings(*texts)
-    assert "in the robot domain but 1 in the human domain" in str(info.value)
+    assert "in robot domain but 1 in human domain" in str(info.value)
 
 
 def _copy(src: Path, dst: Path) -> None:
