@@ -1,0 +1,11 @@
+;; the human believes the direct road a-c is short
+(define (problem courier-1) (:domain courier)
+  (:objects a b c - location p1 - package)
+  (:init (robot-at a) (pkg-at p1 a) (handempty)
+         (road a b) (road b a) (road b c) (road c b) (road a c) (road c a)
+         (= (road-length a b) 2) (= (road-length b a) 2)
+         (= (road-length b c) 2) (= (road-length c b) 2)
+         (= (road-length a c) 3) (= (road-length c a) 5)
+         (= (total-cost) 0))
+  (:goal (and (pkg-at p1 c)))
+  (:metric minimize (total-cost)))

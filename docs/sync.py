@@ -1,0 +1,105 @@
+"""Regenerate (or check) the command outputs embedded in the Markdown docs.
+
+A block to keep current looks like this in any ``.md`` file::
+
+    <!-- run: mega-sat solve --task domains/usar-fetch/p1 --alpha 0.1 -->
+    ```console
+    $ mega-sat solve --task domains/usar-fetch/p1 --alpha 0.1
+    ...output...
+    ```
+
+``python docs/sync.py`` re-runs every such command from the repository root and rewrites the
+block; ``python docs/sync.py --check`` fails if any block differs from a fresh run (timings,
+memory and paths under /tmp are masked), so documented output cannot silently rot.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import re
+import shlex
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+BLOCK = re.compile(r"(<!-- run: (?P<cmd>.+?) -->\n)```console\n(?P<body>.*?)```\n", re.S)
+MASKS = [
+    (re.compile(r"\d+\.\d+s\b"), "<T>s"),
+    (re.compile(r'"time_s": [0-9.e-]+'), '"time_s": <T>'),
+    (re.compile(r'"(\w*time\w*)": [0-9.e-]+'), r'"\1": <T>'),
+]
+_CLI = "import sys; sys.argv[0] = 'mega-sat'; from mega_sat.cli import main; main()"
+DEFAULT_FILES = ["README.md", "docs/*.md", "domains/*/README.md"]
+
+
+def mask(text: str) -> str:
+    for rx, rep in MASKS:
+        text = rx.sub(rep, text)
+    return text
+
+
+def run_command(cmd: str) -> str:
+    """Run ``cmd`` from the repository root; ``mega-sat`` and ``python`` mean the current
+    interpreter (so the venv need not be on PATH)."""
+    argv = shlex.split(cmd)
+    if argv[0] == "mega-sat":
+        # not ``-m mega_sat.cli``: click would then print "python -m mega_sat.cli" in usage lines
+        argv = [sys.executable, "-c", _CLI, *argv[1:]]
+    elif argv[0] in ("python", "python3"):
+        argv = [sys.executable, *argv[1:]]  # the same interpreter, even if no venv is active
+    env = dict(os.environ, COLUMNS="100")
+    res = subprocess.run(argv, cwd=ROOT, capture_output=True, text=True, env=env, timeout=600)
+    out = res.stdout + res.stderr
+    if res.returncode not in (0, 1):
+        out += f"[exit code {res.returncode}]\n"
+    return out
+
+
+def render(cmd: str) -> str:
+    return f"$ {cmd}\n{run_command(cmd)}"
+
+
+def files(patterns: list[str]) -> list[Path]:
+    out: list[Path] = []
+    for p in patterns:
+        out += sorted(ROOT.glob(p))
+    return out
+
+
+def sync(path: Path, check: bool) -> list[str]:
+    """Rewrite (or check) one file; returns the commands whose output differs."""
+    text = path.read_text()
+    stale: list[str] = []
+
+    def repl(m: re.Match) -> str:
+        cmd = m.group("cmd").strip()
+        fresh = render(cmd)
+        if mask(fresh) != mask(m.group("body")):
+            stale.append(cmd)
+        return f"{m.group(1)}```console\n{fresh}```\n"
+
+    new = BLOCK.sub(repl, text)
+    if not check and new != text:
+        path.write_text(new)
+    return stale
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--check", action="store_true", help="Fail on stale blocks; write nothing.")
+    ap.add_argument("files", nargs="*", help="Markdown files (default: README, docs, domains).")
+    args = ap.parse_args()
+    targets = [Path(f).resolve() for f in args.files] or files(DEFAULT_FILES)
+    bad = 0
+    for f in targets:
+        stale = sync(f, args.check)
+        for cmd in stale:
+            bad += 1
+            print(f"{f.relative_to(ROOT)}: {'stale' if args.check else 'updated'}: {cmd}")
+    return 1 if (args.check and bad) else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
