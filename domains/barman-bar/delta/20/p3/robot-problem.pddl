@@ -1,0 +1,32 @@
+;; barman-bar p3: two different cocktails (cocktail1 = ingredient1+ingredient2 in shot1, cocktail2 = ingredient2+ingredient3 in shot2); the shaker must be emptied and cleaned in between.
+(define (problem barman-p3) (:domain barman-bar)
+  (:objects left right - hand l0 l1 l2 - level dispenser1 dispenser2 dispenser3 - dispenser
+            ingredient1 ingredient2 ingredient3 - ingredient cocktail1 cocktail2 - cocktail
+            shaker1 - shaker shot1 shot2 - shot)
+  (:init
+    (= (total-cost) 0)
+    (handempty left)
+    (handempty right)
+    (ontable shaker1)
+    (empty shaker1)
+    (clean shaker1)
+    (shaker-empty-level shaker1 l0)
+    (shaker-level shaker1 l0)
+    (next l0 l1)
+    (next l1 l2)
+    (ontable shot1)
+    (empty shot1)
+    (clean shot1)
+    (ontable shot2)
+    (empty shot2)
+    (clean shot2)
+    (dispenses dispenser1 ingredient1)
+    (dispenses dispenser2 ingredient2)
+    (dispenses dispenser3 ingredient3)
+    (cocktail-part1 cocktail1 ingredient1)
+    (cocktail-part2 cocktail1 ingredient2)
+    (cocktail-part1 cocktail2 ingredient2)
+    (cocktail-part2 cocktail2 ingredient3))
+  (:goal (and (contains shot1 cocktail1) (contains shot2 cocktail2)))
+  (:metric minimize (total-cost)))
+
