@@ -16,6 +16,7 @@ comes from simulating the decoded plan, never from the solver's counters.
 from __future__ import annotations
 
 import inspect
+import threading
 import time
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
@@ -26,6 +27,13 @@ from mega_sat.family import GroundFamily, GroundTask, GuardLit, PlanStep
 from mega_sat.sat_encoding import HUMAN, ROBOT, FamilyEncoding
 
 _INF = float("inf")
+
+
+class OracleInterrupted(Exception):  # noqa: N818 - the name says what happened
+    """A SAT oracle call was stopped by :meth:`SatOracles.interrupt` or its deadline.
+
+    Nothing was proven by the interrupted call; the oracles stay usable for later calls.
+    """
 
 
 @dataclass(frozen=True)
@@ -79,6 +87,66 @@ def _simulate_cost(task: GroundTask, plan: Sequence[PlanStep]) -> int | None:
     return sim.cost if sim.valid else None
 
 
+def _supports_interrupt(solver: Solver) -> bool:
+    try:
+        solver.clear_interrupt()
+    except NotImplementedError:
+        return False
+    return True
+
+
+def extra_cost_bound(task: GroundTask, c_min: int) -> int:
+    """LM-cut of ``task`` with every action cost lowered by ``c_min``.
+
+    Every plan of ``N`` steps costs ``N * c_min + (its cost under the lowered costs)``, and the
+    latter is at least this admissible estimate, so a plan of cost ``<= B`` has at most
+    ``floor((B - extra) / c_min)`` steps: a tighter horizon than ``floor(B / c_min)`` when
+    some actions cost more than the cheapest one.
+    """
+    from mega_sat.search import RelaxedTask
+
+    if c_min <= 0 or task.goal <= task.init:
+        return 0
+    rt = RelaxedTask(task)
+    rt.costs = [max(0, c - c_min) for c in rt.costs[:-1]] + [0]
+    h = rt.lmcut(sorted(task.init))
+    return 0 if h == _INF else int(h)
+
+
+def extra_cost_exact(task: GroundTask, c_min: int, node_limit: int) -> int:
+    """:func:`extra_cost_bound`, made exact by an explicit optimal search under the lowered
+    costs when it finishes within ``node_limit`` expansions (else the LM-cut estimate)."""
+    from dataclasses import replace
+
+    from mega_sat.search import astar
+
+    lm = extra_cost_bound(task, c_min)
+    if c_min <= 0 or task.goal <= task.init or node_limit <= 0:
+        return lm
+    low = GroundTask(task.atoms, tuple(replace(a, cost=a.cost - c_min) for a in task.actions),
+                     task.init, task.goal)
+    r = astar(low, heuristic="blind", node_limit=node_limit)
+    if r.status == "optimal" and r.cost is not None:
+        return max(lm, int(r.cost))
+    return lm
+
+
+def family_relaxation(family: GroundFamily) -> GroundTask:
+    """A task whose delete relaxation over-approximates that of *every* family member: every
+    action, only unguarded (pre)conditions and goals, every add effect and initial atom, the
+    cheapest cost case.  Its admissible estimates are lower bounds for every selection."""
+    from mega_sat.family import StripsAction
+
+    acts = []
+    for i, a in enumerate(family.actions):
+        acts.append(StripsAction(
+            i, a.name, a.args, frozenset(p for p, g in a.pre if g is None), frozenset(),
+            frozenset(p for p, _ in a.add), frozenset(),
+            min((v for _, v in a.cost), default=0)))
+    return GroundTask(family.atoms, tuple(acts), frozenset(p for p, _ in family.init),
+                      frozenset(p for p, g in family.goal if g is None))
+
+
 def relaxed_bounds(task: GroundTask) -> tuple[int, int] | None:
     """``(steps, cost)`` lower bounds from the delete relaxation (unit-cost h^max; LM-cut);
     ``None`` if the goal is not even relaxed-reachable (then the task is provably unsolvable).
@@ -104,7 +172,10 @@ class SatOracles:
 
     ``horizon_cap`` bounds the number of steps ever encoded; ``core_calls`` bounds the SAT
     calls spent minimizing one core (a core that is not fully minimized is still sound);
-    ``fallback_node_limit`` bounds the explicit-state search used when OPT hits the cap.
+    ``fallback_node_limit`` bounds the explicit-state search used when OPT hits the cap;
+    ``solve_chunk`` is the conflict chunk between interrupt/deadline checks;
+    ``extra_node_limit`` bounds the explicit search that makes the robot copy's step bound
+    exact (:func:`extra_cost_exact`).
     """
 
     def __init__(
@@ -118,6 +189,8 @@ class SatOracles:
         fallback_node_limit: int = 200000,
         symmetry_breaking: bool = True,
         partial_order: bool = False,
+        solve_chunk: int = 20000,
+        extra_node_limit: int = 10000,
     ):
         t0 = time.perf_counter()
         self.family = family
@@ -148,6 +221,23 @@ class SatOracles:
         self._opt_cache: dict[frozenset[int], OptResult] = {}
         self._robot_lb: int | None = None
         self._tasks: dict[frozenset[int], GroundTask] = {}
+        # per-copy minimum action costs for the JOINT horizon: the robot copy always runs in
+        # the robot model; the human copy's must hold for every selection (cores generalize)
+        robot_costs = [a.cost for a in self.task(family.robot_selection).actions]
+        self.c_min_robot = min(robot_costs, default=self.c_min)
+        self._dominance: dict[frozenset[int], bool] = {}
+        # cost the cheapest plan must spend above N * c_min (tightens the JOINT horizon)
+        self.extra_robot = extra_cost_exact(self.task(family.robot_selection), self.c_min_robot,
+                                            extra_node_limit)
+        self.extra_human = extra_cost_bound(family_relaxation(family), self.c_min)
+        self._opt_extra: dict[frozenset[int], tuple[int, int]] = {}
+        # interruption: a flag checked between conflict-budget chunks (CaDiCaL holds the GIL
+        # and has no native interrupt in pysat), plus the native interrupt where supported
+        self._interrupted = False
+        self._deadline: float | None = None
+        self._timer: threading.Timer | None = None
+        self.solve_chunk = solve_chunk
+        self._native_interrupt = _supports_interrupt(self._joint_solver)
         self.stats: dict[str, float | int] = {
             "sat_opt_calls": 0,
             "sat_joint_calls": 0,
@@ -162,8 +252,49 @@ class SatOracles:
 
     # ------------------------------------------------------------ plumbing
     def close(self) -> None:
+        self.set_deadline(None)
         self._opt_solver.delete()
         self._joint_solver.delete()
+
+    # ---------------------------------------------------------- interruption
+    def interrupt(self) -> None:
+        """Stop the running oracle call (from any thread): it raises :class:`OracleInterrupted`.
+
+        If no call is running, the next solver call raises instead.  Solvers with a native
+        interrupt (MiniSat/Glucose family) stop at once; CaDiCaL, which pysat cannot interrupt,
+        stops at the end of its current conflict chunk (``solve_chunk`` conflicts).
+        """
+        self._interrupted = True
+        if self._native_interrupt:
+            for s in (self._opt_solver, self._joint_solver):
+                s.interrupt()
+
+    def set_deadline(self, deadline: float | None) -> None:
+        """Interrupt any oracle call still running at ``deadline`` (a ``time.perf_counter()``
+        value; ``None`` clears it).  Every solver call started after the deadline raises
+        :class:`OracleInterrupted` until the deadline is cleared or moved."""
+        if self._timer is not None:
+            self._timer.cancel()
+            self._timer = None
+        self._deadline = deadline
+        self._clear_interrupt()
+        if deadline is not None:
+            self._timer = threading.Timer(max(0.0, deadline - time.perf_counter()),
+                                          self.interrupt)
+            self._timer.daemon = True
+            self._timer.start()
+
+    def _clear_interrupt(self) -> None:
+        self._interrupted = False
+        if self._native_interrupt:
+            for s in (self._opt_solver, self._joint_solver):
+                s.clear_interrupt()
+
+    def _check_interrupt(self) -> None:
+        late = self._deadline is not None and time.perf_counter() >= self._deadline
+        if self._interrupted or late:
+            self._clear_interrupt()
+            raise OracleInterrupted("deadline reached" if late else "interrupted")
 
     def __enter__(self) -> SatOracles:
         return self
@@ -206,12 +337,48 @@ class SatOracles:
             )
         return need, True, ""
 
+    def _opt_horizon(self, sel: frozenset[int], bound: int, at_least: int = 0):
+        """:meth:`_horizon` for OPT of one selection: ``floor((bound - extra) / c)`` with the
+        selection's own cheapest action cost ``c`` and :func:`extra_cost_bound` (OPT gives no
+        cores, so the horizon may depend on the selection)."""
+        got = self._opt_extra.get(sel)
+        if got is None:
+            task = self.task(sel)
+            c = min((a.cost for a in task.actions), default=0)
+            got = self._opt_extra[sel] = (c, extra_cost_bound(task, c))
+        c, extra = got
+        if c <= 0 or self.c_min <= 0:
+            return self._horizon(bound, at_least)
+        need = max((bound - extra) // c, 0)
+        if need > self.horizon_cap:
+            return (
+                self.horizon_cap,
+                False,
+                f"horizon cap {self.horizon_cap} < {need} steps needed for cost <= {bound}",
+            )
+        return need, True, ""
+
     def _solve(self, solver: Solver, assumptions: list[int], budget: int | None = None):
+        """One SAT call: ``True``/``False``, or ``None`` if ``budget`` conflicts ran out.
+
+        Runs in chunks of ``solve_chunk`` conflicts (``solve_limited(expect_interrupt=True)``)
+        and checks for an interrupt or a passed deadline before and between chunks; an
+        interrupted call raises :class:`OracleInterrupted` and proves nothing.
+        """
+        self._check_interrupt()
         self.stats["sat_solver_calls"] += 1
-        if budget is None:
-            return solver.solve(assumptions=assumptions)
-        solver.conf_budget(budget)
-        return solver.solve_limited(assumptions=assumptions)
+        left = budget
+        while True:
+            chunk = self.solve_chunk if left is None else min(self.solve_chunk, left)
+            solver.conf_budget(chunk)
+            r = solver.solve_limited(assumptions=assumptions, expect_interrupt=True)
+            if r is not None:
+                return r
+            self._check_interrupt()
+            if left is not None:
+                left -= chunk
+                if left <= 0:
+                    return None
 
     def _finish(self, kind: str, t0: float) -> float:
         dt = time.perf_counter() - t0
@@ -279,7 +446,7 @@ class SatOracles:
         while True:
             if best <= lb_cost:
                 return done("optimal", best, plan, True, "meets the relaxed lower bound")
-            h, exact, reason = self._horizon(best - 1, at_least=len(plan))
+            h, exact, reason = self._opt_horizon(sel, best - 1, at_least=len(plan))
             if exact and h < lb_steps:
                 return done(
                     "optimal", best, plan, True, "no cheaper plan fits the relaxed step lower bound"
@@ -339,31 +506,95 @@ class SatOracles:
 
     # ----------------------------------------------------------------- JOINT
     def joint(
-        self, selection: Iterable[int], robot_bound: int | None, human_bound: int
+        self,
+        selection: Iterable[int],
+        robot_bound: int | None,
+        human_bound: int,
+        *,
+        hints: Iterable[Sequence[PlanStep]] = (),
+        robot_lower_bound: int | None = None,
+        human_lower_bound: int | None = None,
     ) -> JointResult:
         """Cheapest robot plan valid in the robot model (robot cost <= ``robot_bound``, None =
         unbounded) and in ``human + selection`` with human cost <= ``human_bound``; or a
-        minimized core of selector literals when there is none."""
+        minimized core of selector literals when there is none.
+
+        Optional speed-ups, none of which changes the answer:
+
+        * ``hints``: candidate plans (e.g. the human-optimal ``pi*`` from OPT).  Each is
+          simulated in both models; the cheapest valid one within both bounds is a witness, so
+          the search only has to look for cheaper robot plans.  Invalid hints are ignored.
+        * ``robot_lower_bound``: a *proven* lower bound on every robot plan's cost (the robot
+          optimum ``C*_R``); a witness meeting it needs no final UNSAT call, and a
+          ``robot_bound`` below it is infeasible with the empty core.
+        * ``human_lower_bound``: a *proven* lower bound on every plan of ``human + selection``
+          (its optimum ``c*``).  When no action costs the robot less than it costs the human
+          in this selection, every joint plan has robot cost >= human cost >= this bound.
+        """
         sel = frozenset(selection)
         lits = [(i, i in sel) for i in range(self.family.n_updates)]
-        return self.joint_lits(lits, robot_bound, human_bound)
+        plan_lb = 0
+        if human_lower_bound is not None and self._robot_dominates(sel):
+            plan_lb = human_lower_bound
+        return self._joint(lits, robot_bound, human_bound, sel=sel, hints=hints,
+                           robot_lower_bound=robot_lower_bound, plan_lower_bound=plan_lb)
 
     def joint_lits(
-        self, lits: Iterable[GuardLit], robot_bound: int | None, human_bound: int
+        self,
+        lits: Iterable[GuardLit],
+        robot_bound: int | None,
+        human_bound: int,
+        *,
+        robot_lower_bound: int | None = None,
     ) -> JointResult:
         """``JOINT`` under a *partial* assignment of selectors (unassigned ones are free).
 
         ``joint`` calls it with the full assignment; tests use it to check that a core alone is
         infeasible.
         """
+        return self._joint(lits, robot_bound, human_bound, robot_lower_bound=robot_lower_bound)
+
+    def _joint_horizon(self, robot_bound: int | None, human_bound: int) -> tuple[int, bool, str]:
+        """Steps that every joint plan within the bounds fits in: ``min`` over the copies of
+        ``floor(bound / c_min of that copy)`` (robot copy: the robot model's cheapest action;
+        human copy: the family's, valid for every selection), capped."""
+        need = []
+        if robot_bound is not None and self.c_min_robot > 0:
+            need.append((robot_bound - self.extra_robot) // self.c_min_robot)
+        if self.c_min > 0:
+            need.append((human_bound - self.extra_human) // self.c_min)
+        if not need:
+            bmin = human_bound if robot_bound is None else min(robot_bound, human_bound)
+            return self._horizon(bmin, at_least=self._zero_cost_horizon)
+        h = max(min(need), 0)
+        if h > self.horizon_cap:
+            return (
+                self.horizon_cap,
+                False,
+                f"horizon cap {self.horizon_cap} < {h} steps needed for the joint bounds",
+            )
+        return h, True, ""
+
+    def _joint(
+        self,
+        lits: Iterable[GuardLit],
+        robot_bound: int | None,
+        human_bound: int,
+        *,
+        sel: frozenset[int] | None = None,
+        hints: Iterable[Sequence[PlanStep]] = (),
+        robot_lower_bound: int | None = None,
+        plan_lower_bound: int = 0,
+    ) -> JointResult:
         t0 = time.perf_counter()
         enc, solver = self.joint_enc, self._joint_solver
         lits = list(dict.fromkeys(lits))
         calls = 0
-        bmin = human_bound if robot_bound is None else min(robot_bound, human_bound)
-        h, exact, reason = self._horizon(bmin, at_least=self._zero_cost_horizon)
+        h, exact, reason = self._joint_horizon(robot_bound, human_bound)
+        rlb = max(self._robot_lower_bound(), robot_lower_bound or 0)
+        lb = max(rlb, plan_lower_bound)
 
-        def done(status, plan=None, rc=None, hc=None, core=None, sel=None) -> JointResult:
+        def done(status, plan=None, rc=None, hc=None, core=None, sel=None, why="") -> JointResult:
             return JointResult(
                 status,
                 plan,
@@ -371,40 +602,45 @@ class SatOracles:
                 hc,
                 core,
                 sel,
-                exact,
-                reason or "proven by SAT",
+                exact or bool(why),
+                why or reason or "proven by SAT",
                 h,
                 calls,
                 self._finish("joint", t0),
             )
 
-        if bmin < 0:
+        if human_bound < 0 or (robot_bound is not None and robot_bound < 0):
             h = 0
-            return done("infeasible", core=frozenset())
+            return done("infeasible", core=frozenset(), why="negative bound")
+        if robot_bound is not None and robot_bound < rlb:
+            return done("infeasible", core=frozenset(),
+                        why=f"robot cost bound {robot_bound} < robot lower bound {rlb}")
         sel_lits = enc.lits_assumptions(lits)
-        base = (
-            enc.cost_assumptions(HUMAN, human_bound, h)
-            + enc.cost_assumptions(ROBOT, robot_bound, h)
-            + enc.goal_assumptions(h)
-        )
-        calls += 1
-        if not self._solve(solver, base + sel_lits):
-            core = self._minimize_core(base, sel_lits, solver.get_core() or [])
-            calls += self._last_core_calls
-            return done("infeasible", core=core)
         robot_task = self.task(self.family.robot_selection)
+        best = None if sel is None else self._best_hint(hints, sel, robot_bound, human_bound, h)
+        if best is None:
+            base = (
+                enc.cost_assumptions(HUMAN, human_bound, h)
+                + enc.cost_assumptions(ROBOT, robot_bound, h)
+                + enc.goal_assumptions(h)
+            )
+            calls += 1
+            if not self._solve(solver, base + sel_lits):
+                core = self._minimize_core(base, sel_lits, solver.get_core() or [])
+                calls += self._last_core_calls
+                return done("infeasible", core=core)
+            plan, rc, hc, sel = self._decode_joint(solver.get_model(), h, robot_task)
+        else:
+            plan, rc, hc = best
+            self.stats["sat_joint_hint_used"] = self.stats.get("sat_joint_hint_used", 0) + 1
+        assert hc <= human_bound and (robot_bound is None or rc <= robot_bound)
         while True:
-            model = solver.get_model()
-            sel = enc.decode_selection(model)
-            plan = enc.decode_plan(model, h)
-            rc = _simulate_cost(robot_task, plan)
-            hc = _simulate_cost(self.task(sel), plan)
-            assert rc is not None and hc is not None, "decoded joint plan invalid: encoding bug"
-            assert hc <= human_bound and (robot_bound is None or rc <= robot_bound)
+            if rc <= lb:
+                why = ("meets the robot lower bound" if rc <= rlb
+                       else "meets the human lower bound (robot costs dominate)")
+                return done("plan", plan, rc, hc, sel=sel, why=why)
             # robot cost <= rc - 1 also bounds the plan length; the horizon may shrink
-            if rc <= self._robot_lower_bound():
-                return done("plan", plan, rc, hc, sel=sel)
-            h2 = min(self._horizon(rc - 1)[0], h) if self.c_min > 0 else h
+            h2 = min(self._joint_horizon(rc - 1, human_bound)[0], h)
             calls += 1
             ok = self._solve(
                 solver,
@@ -416,6 +652,48 @@ class SatOracles:
             if not ok:
                 return done("plan", plan, rc, hc, sel=sel)
             h = h2
+            plan, rc, hc, sel = self._decode_joint(solver.get_model(), h, robot_task)
+            assert robot_bound is None or rc <= robot_bound
+
+    def _decode_joint(self, model, h: int, robot_task: GroundTask):
+        enc = self.joint_enc
+        sel = enc.decode_selection(model)
+        plan = enc.decode_plan(model, h)
+        rc = _simulate_cost(robot_task, plan)
+        hc = _simulate_cost(self.task(sel), plan)
+        assert rc is not None and hc is not None, "decoded joint plan invalid: encoding bug"
+        return plan, rc, hc, sel
+
+    def _best_hint(self, hints, sel, robot_bound, human_bound, h):
+        """The hint plan of least robot cost that is a JOINT witness, or ``None``."""
+        best = None
+        robot_task, task = self.task(self.family.robot_selection), self.task(sel)
+        for raw in hints:
+            if raw is None:
+                continue
+            plan = tuple(tuple(str(x).lower() for x in step) for step in raw)
+            if len(plan) > h:
+                continue  # only possible with an inexact horizon; keep answers within it
+            rc = _simulate_cost(robot_task, plan)
+            if rc is None or (robot_bound is not None and rc > robot_bound):
+                continue
+            hc = _simulate_cost(task, plan)
+            if hc is None or hc > human_bound:
+                continue
+            if best is None or rc < best[1]:
+                best = (plan, rc, hc)
+        return best
+
+    def _robot_dominates(self, sel: frozenset[int]) -> bool:
+        """Whether no action usable by a joint plan costs less in the robot model than in
+        ``human + sel`` (then robot cost >= human cost for every joint plan)."""
+        r = self._dominance.get(sel)
+        if r is None:
+            robot, task = self.task(self.family.robot_selection), self.task(sel)
+            hc = {a.index: a.cost for a in task.actions}
+            r = all(a.cost >= hc[a.index] for a in robot.actions if a.index in hc)
+            self._dominance[sel] = r
+        return r
 
     def _robot_lower_bound(self) -> int:
         """A proven lower bound on any robot plan's cost: the robot optimum when already
@@ -442,7 +720,9 @@ class SatOracles:
         core = [lit for lit in sel_lits if lit in in_core]
         self._last_core_calls = 0
         i = 0
-        while i < len(core) and self._last_core_calls < self.core_calls:
+        # a one-literal core is kept as is: the empty core (no selection at all) is rare and
+        # mostly caught by the robot lower bound before any SAT call
+        while len(core) > 1 and i < len(core) and self._last_core_calls < self.core_calls:
             trial = core[:i] + core[i + 1 :]
             self._last_core_calls += 1
             self.stats["sat_core_min_calls"] += 1

@@ -38,11 +38,13 @@ def sat_frontier(task: TwoModelTask, family: GroundFamily, *, oracles=None,
     that gives cores, is always the SAT encoding.
     """
     from mega_sat.node_planner import NodePlanner
-    from mega_sat.oracles import SatOracles
+    from mega_sat.oracles import OracleInterrupted, SatOracles
 
     t0 = time.perf_counter()
     deadline = None if timeout is None else t0 + timeout
     orc = oracles if oracles is not None else SatOracles(family, solver=solver)
+    if deadline is not None and hasattr(orc, "set_deadline"):
+        orc.set_deadline(deadline)  # interrupts a SAT call still running at the deadline
     opt_planner = NodePlanner(task, family, planner, oracles=orc)
     notes: list[str] = []
     exact = True
@@ -53,12 +55,17 @@ def sat_frontier(task: TwoModelTask, family: GroundFamily, *, oracles=None,
             r = NodePlanner(task, family, "sat", oracles=orc).optimal(sel)
         return r
 
-    robot = opt_of(family.robot_selection)
+    try:
+        robot = opt_of(family.robot_selection)
+    except OracleInterrupted:
+        orc.set_deadline(None)
+        raise _robot_timeout(task, timeout) from None
     _require_robot_plan(task, robot)
     if not robot.exact:
         exact = False
         notes.append(f"robot optimum not proven: {robot.reason}")
     c_robot = robot.cost
+    robot_lb = c_robot if robot.exact else None  # a proven lower bound on any robot plan
 
     hs = make_hitting_set(hitting_set, len(task.delta))
     opt_cache: dict[frozenset[int], object] = {}
@@ -68,16 +75,20 @@ def sat_frontier(task: TwoModelTask, family: GroundFamily, *, oracles=None,
     lower_bound = None
     stats = {"iterations": 0, "opt_calls": 0, "joint_calls": 0, "learned": 0,
              "learned_literals": 0, "unsolvable_models": 0}
+    def time_out():
+        nonlocal lower_bound, complete
+        nxt = hs.minimum()
+        lower_bound = None if nxt is None else len(nxt)
+        complete = nxt is None
+        if not complete:
+            notes.append(f"time limit {timeout}s reached: frontier incomplete; any "
+                         f"solution cheaper than the last point needs |E| >= "
+                         f"{lower_bound}")
+
     try:
         while True:
             if deadline is not None and time.perf_counter() > deadline:
-                nxt = hs.minimum()
-                lower_bound = None if nxt is None else len(nxt)
-                complete = nxt is None
-                if not complete:
-                    notes.append(f"time limit {timeout}s reached: frontier incomplete; any "
-                                 f"solution cheaper than the last point needs |E| >= "
-                                 f"{lower_bound}")
+                time_out()
                 break
             sel = hs.minimum()
             if sel is None:
@@ -86,7 +97,11 @@ def sat_frontier(task: TwoModelTask, family: GroundFamily, *, oracles=None,
             stats["iterations"] += 1
             opt = opt_cache.get(sel)
             if opt is None:
-                opt = opt_of(sel)
+                try:
+                    opt = opt_of(sel)
+                except OracleInterrupted:
+                    time_out()
+                    break
                 opt_cache[sel] = opt
                 stats["opt_calls"] += 1
             if opt.status != "optimal":
@@ -104,7 +119,15 @@ def sat_frontier(task: TwoModelTask, family: GroundFamily, *, oracles=None,
             if not opt.exact:
                 exact = False
                 notes.append(f"OPT not proven optimal (|E|={len(sel)}): {opt.reason}")
-            res = orc.joint(sel, bound, opt.cost)
+            try:
+                # pi* is a witness if the robot can run it within K; c_robot and (when costs
+                # allow) c* are proven lower bounds that spare the final UNSAT call
+                res = orc.joint(sel, bound, opt.cost, hints=(opt.plan,),
+                                robot_lower_bound=robot_lb,
+                                human_lower_bound=opt.cost if opt.exact else None)
+            except OracleInterrupted:
+                time_out()
+                break
             stats["joint_calls"] += 1
             if not res.exact:
                 exact = False
@@ -121,6 +144,8 @@ def sat_frontier(task: TwoModelTask, family: GroundFamily, *, oracles=None,
             _learn(hs, exclusion_clause(sel, on), stats)
     finally:
         hs.close()
+        if deadline is not None and hasattr(orc, "set_deadline"):
+            orc.set_deadline(None)
     pts = pareto_filter(points)
     return Frontier(
         engine="sat",
@@ -142,6 +167,14 @@ def _learn(hs, clause, stats) -> None:
     hs.add(clause)
     stats["learned"] += 1
     stats["learned_literals"] += len(clause)
+
+
+def _robot_timeout(task: TwoModelTask, timeout):
+    from mega_sat.errors import PlannerError
+
+    src = task.sources.get("robot_problem", "robot problem")
+    return PlannerError(f"time limit {timeout}s reached before the robot optimum was found",
+                        path=src)
 
 
 def _require_robot_plan(task: TwoModelTask, robot) -> None:

@@ -170,3 +170,102 @@ def test_usar_fetch_domain(problem):
             if j.status == "plan":
                 assert plan_cost(fam.specialize(sel), j.plan) == j.human_cost == r.cost
         assert orc.stats["sat_max_call_time_s"] < 0.5
+
+
+@SETTINGS
+@given(fam=families(max_atoms=3, max_actions=5, max_updates=4), data=st.data())
+def test_joint_hints_and_lower_bounds_do_not_change_answers(fam: GroundFamily, data):
+    """Hints (valid or not) and proven lower bounds only save SAT calls: same status, same
+    minimal robot cost, a valid plan within the bounds."""
+    robot = fam.specialize(fam.robot_selection)
+    c_robot = dijkstra(robot)
+    with SatOracles(fam) as orc:
+        sel = data.draw(selections(fam.n_updates))
+        hb = data.draw(st.integers(0, 7))
+        rb = data.draw(st.one_of(st.none(), st.integers(0, 7)))
+        c_star = dijkstra(fam.specialize(sel))
+        best = joint_brute(fam, sel, rb, hb)
+        bad = ((("no-such-action",),), (fam.actions[0].step,) * 3, ())
+        good = orc.joint(sel, rb, hb)
+        hints = [*bad, *([good.plan] if good.plan is not None else [])]
+        r = orc.joint(sel, rb, hb, hints=hints, robot_lower_bound=c_robot,
+                      human_lower_bound=c_star)
+        assert r.exact
+        if best is None:
+            assert r.status == "infeasible" and r.core is not None
+            for other in agreeing(r.core, fam.n_updates):
+                assert joint_brute(fam, other, rb, hb) is None
+        else:
+            assert r.status == "plan" and r.robot_cost == best == good.robot_cost
+            assert plan_cost(robot, r.plan) == r.robot_cost
+            assert plan_cost(fam.specialize(sel), r.plan) == r.human_cost <= hb
+
+
+def test_bad_hint_is_ignored_and_good_hint_is_used():
+    fam = _chain(4)
+    with SatOracles(fam) as orc:
+        plan = tuple(("step", str(i)) for i in range(4))
+        r = orc.joint(frozenset(), None, 4, hints=[plan[:2], (("step", "9"),), plan[::-1]])
+        assert r.status == "plan" and r.plan == plan and r.calls >= 1
+        calls = orc.stats["sat_solver_calls"]
+        r = orc.joint(frozenset(), None, 4, hints=[plan], robot_lower_bound=4)
+        assert r.status == "plan" and r.plan == plan and r.robot_cost == 4 and r.calls == 0
+        assert orc.stats["sat_solver_calls"] == calls  # the hint met the bound: no SAT call
+        r = orc.joint(frozenset(), 3, 4, robot_lower_bound=4)
+        assert r.status == "infeasible" and r.core == frozenset() and r.exact
+
+
+def test_interrupt_and_deadline_leave_oracles_usable():
+    import time
+
+    from mega_sat.oracles import OracleInterrupted
+
+    fam = _chain(6)
+    with SatOracles(fam) as orc:
+        orc.set_deadline(time.perf_counter())
+        with pytest.raises(OracleInterrupted):
+            orc.joint(frozenset(), None, 6)
+        with pytest.raises(OracleInterrupted):  # still past the deadline
+            orc.opt(frozenset())
+        orc.set_deadline(None)
+        assert orc.joint(frozenset(), None, 6).robot_cost == 6
+        orc.interrupt()
+        with pytest.raises(OracleInterrupted):
+            orc.joint(frozenset(), None, 5)
+        assert orc.joint(frozenset(), None, 5).core == frozenset()
+        assert orc.opt(frozenset()).cost == 6
+        orc.set_deadline(time.perf_counter() + 60)  # a far deadline changes nothing
+        assert orc.joint(frozenset(), None, 6).status == "plan"
+        orc.set_deadline(None)
+
+
+@pytest.mark.parametrize("solver", ["glucose4", "cadical195"])
+def test_deadline_interrupts_a_long_call(solver):
+    """A call that would run long is stopped near the deadline (CaDiCaL: after a chunk)."""
+    import time
+
+    from mega_sat.oracles import OracleInterrupted
+
+    fam = _chain(3)
+    with SatOracles(fam, solver=solver, solve_chunk=50) as orc:
+        # a pigeonhole formula (9 pigeons, 8 holes) makes the next solver call hard
+        n, m = 9, 8
+        top = orc.joint_enc.top
+        v = [[top + i * m + j + 1 for j in range(m)] for i in range(n)]
+        orc.joint_enc.top += n * m
+        s = orc._joint_solver
+        act = top + n * m + 1
+        orc.joint_enc.top += 1
+        for i in range(n):
+            s.add_clause([-act, *v[i]])
+        for j in range(m):
+            for a in range(n):
+                for b in range(a + 1, n):
+                    s.add_clause([-act, -v[a][j], -v[b][j]])
+        t0 = time.perf_counter()
+        orc.set_deadline(t0 + 0.3)
+        with pytest.raises(OracleInterrupted):
+            orc._solve(s, [act])
+        assert time.perf_counter() - t0 < 5
+        orc.set_deadline(None)
+        assert orc.joint(frozenset(), None, 3).robot_cost == 3

@@ -47,7 +47,7 @@ def tradeoff_tasks(draw, max_schema_flips: int = 2) -> TwoModelTask:
         length = draw(st.integers(1, 2))
         chain = ["s"] + [f"r{r}n{i}" for i in range(length)] + ["g"]
         nodes.update(chain)
-        for a, b in zip(chain, chain[1:]):
+        for a, b in zip(chain, chain[1:], strict=False):
             rk = draw(st.sampled_from(kinds))
             hk = rk if draw(st.integers(0, 2)) else draw(st.sampled_from(kinds))
             if rk:
