@@ -60,9 +60,16 @@ class MegaSolver:
     engine's JOINT check is always the SAT encoding.  ``hitting_set``: ``rc2`` or ``ilp``.
     """
 
-    def __init__(self, task: TwoModelTask, *, engine: str = "sat", planner: str | None = None,
-                 hitting_set: str = "rc2", solver: str = "cadical195",
-                 timeout: float | None = None):
+    def __init__(
+        self,
+        task: TwoModelTask,
+        *,
+        engine: str = "sat",
+        planner: str | None = None,
+        hitting_set: str = "rc2",
+        solver: str = "cadical195",
+        timeout: float | None = None,
+    ):
         if engine not in ENGINES:
             raise UsageError(f"unknown engine {engine!r} (choose from {', '.join(ENGINES)})")
         if hitting_set not in ("rc2", "ilp"):
@@ -98,16 +105,24 @@ class MegaSolver:
             if self.engine == "sat":
                 from mega_sat.sat_engine import sat_frontier
 
-                self._frontier = sat_frontier(self.task, self.family, oracles=self.oracles,
-                                              planner=self.planner,
-                                              hitting_set=self.hitting_set,
-                                              timeout=self.timeout)
+                self._frontier = sat_frontier(
+                    self.task,
+                    self.family,
+                    oracles=self.oracles,
+                    planner=self.planner,
+                    hitting_set=self.hitting_set,
+                    timeout=self.timeout,
+                )
             else:
                 from mega_sat.astar_engine import astar_frontier
 
-                self._frontier = astar_frontier(self.task, self.family, planner=self.planner,
-                                                timeout=self.timeout,
-                                                oracles=self._oracles_if_needed())
+                self._frontier = astar_frontier(
+                    self.task,
+                    self.family,
+                    planner=self.planner,
+                    timeout=self.timeout,
+                    oracles=self._oracles_if_needed(),
+                )
         return self._frontier
 
     def solve(self, alpha: float) -> Solution:
@@ -121,23 +136,39 @@ class MegaSolver:
             return choose(self.frontier(), alpha)
         from mega_sat.astar_engine import astar_solve
 
-        return astar_solve(self.task, self.family, alpha, planner=self.planner,
-                           timeout=self.timeout, oracles=self._oracles_if_needed())
+        return astar_solve(
+            self.task,
+            self.family,
+            alpha,
+            planner=self.planner,
+            timeout=self.timeout,
+            oracles=self._oracles_if_needed(),
+        )
 
     def explain(self, plan: Sequence[PlanStep] | None = None) -> Explanation:
         """MCE of ``plan`` (default: a robot-optimal plan)."""
         from mega_sat.mce import minimal_explanation
 
         planner = self.planner
-        return minimal_explanation(self.task, self.family, plan, planner=planner,
-                                   hitting_set=self.hitting_set,
-                                   oracles=self.oracles if planner == "sat" else None,
-                                   timeout=self.timeout)
+        return minimal_explanation(
+            self.task,
+            self.family,
+            plan,
+            planner=planner,
+            hitting_set=self.hitting_set,
+            oracles=self.oracles if planner == "sat" else None,
+            timeout=self.timeout,
+        )
 
-    def verify(self, point: FrontierPoint | Explanation | None = None, *,
-               explanation: Iterable[str] | None = None,
-               plan: Sequence[PlanStep] | None = None, producer: str | None = None,
-               use_val: bool = True) -> VerifyReport:
+    def verify(
+        self,
+        point: FrontierPoint | Explanation | None = None,
+        *,
+        explanation: Iterable[str] | None = None,
+        plan: Sequence[PlanStep] | None = None,
+        producer: str | None = None,
+        use_val: bool = True,
+    ) -> VerifyReport:
         """Check a pair: a frontier point / MCE, or explanation names plus a plan."""
         if point is not None:
             sel, plan = point.selection, point.plan
@@ -148,8 +179,16 @@ class MegaSolver:
             sel = self.task.selection_from_names(explanation or [])
             rc = hc = None
         prod = producer or self.planner
-        return verify_pair(self.task, self.family, sel, plan, producer=prod, robot_cost=rc,
-                           human_cost=hc, use_val=use_val)
+        return verify_pair(
+            self.task,
+            self.family,
+            sel,
+            plan,
+            producer=prod,
+            robot_cost=rc,
+            human_cost=hc,
+            use_val=use_val,
+        )
 
 
 def frontier(task: TwoModelTask, *, engine: str = "sat", **kw) -> Frontier:
@@ -167,8 +206,9 @@ def explain(task: TwoModelTask, plan: Sequence[PlanStep] | None = None, **kw) ->
     return MegaSolver(task, **kw).explain(plan)
 
 
-def verify(task: TwoModelTask, point: FrontierPoint | Explanation | None = None,
-           **kw) -> VerifyReport:
+def verify(
+    task: TwoModelTask, point: FrontierPoint | Explanation | None = None, **kw
+) -> VerifyReport:
     """Independent check of an answer (see :mod:`mega_sat.verify`)."""
     solver_kw = {k: kw.pop(k) for k in ("engine", "planner") if k in kw}
     return MegaSolver(task, **solver_kw).verify(point, **kw)

@@ -32,8 +32,9 @@ from mega_sat.task import TwoModelTask
 class _Search:
     """State of one run of MEGA-Search, shared by ``solve`` and ``frontier``."""
 
-    def __init__(self, task: TwoModelTask, family: GroundFamily, planner: NodePlanner,
-                 timeout: float | None):
+    def __init__(
+        self, task: TwoModelTask, family: GroundFamily, planner: NodePlanner, timeout: float | None
+    ):
         self.task, self.family, self.planner = task, family, planner
         self.t0 = time.perf_counter()
         self.deadline = None if timeout is None else self.t0 + timeout
@@ -100,10 +101,15 @@ class _Search:
         return (*best, best_obj)
 
     def frontier(self) -> Frontier:
-        pts = [FrontierPoint(tuple(self.task.names(sel)), sel, tuple(plan), rc, hc)
-               for sel, plan, rc, hc in self.nodes if rc is not None]
-        notes = ["A* baseline: each model is judged by one optimal plan of its planner; ties "
-                 "between optimal plans can hide better answers, so no optimality is claimed"]
+        pts = [
+            FrontierPoint(tuple(self.task.names(sel)), sel, tuple(plan), rc, hc)
+            for sel, plan, rc, hc in self.nodes
+            if rc is not None
+        ]
+        notes = [
+            "A* baseline: each model is judged by one optimal plan of its planner; ties "
+            "between optimal plans can hide better answers, so no optimality is claimed"
+        ]
         notes += self.notes
         if not self.exact_planner:
             notes.append("some per-node planner calls were not proven optimal")
@@ -116,29 +122,47 @@ class _Search:
             complete=not self.timed_out,
             notes=tuple(dict.fromkeys(notes)),
             time_s=time.perf_counter() - self.t0,
-            stats={"nodes_expanded": self.expanded, "duplicate_pops": self.duplicates,
-                   "planner": self.planner.kind, "planner_calls": self.planner.calls,
-                   "planner_time_s": round(self.planner.time_s, 6)},
+            stats={
+                "nodes_expanded": self.expanded,
+                "duplicate_pops": self.duplicates,
+                "planner": self.planner.kind,
+                "planner_calls": self.planner.calls,
+                "planner_time_s": round(self.planner.time_s, 6),
+            },
         )
 
 
-def astar_solve(task: TwoModelTask, family: GroundFamily, alpha: float, *,
-                planner: str = "builtin", timeout: float | None = None,
-                oracles=None) -> Solution:
+def astar_solve(
+    task: TwoModelTask,
+    family: GroundFamily,
+    alpha: float,
+    *,
+    planner: str = "builtin",
+    timeout: float | None = None,
+    oracles=None,
+) -> Solution:
     """Algorithm 1 for one ``alpha``: the paper's answer, with the explored nodes as frontier."""
     np_ = NodePlanner(task, family, planner, oracles=oracles)
     s = _Search(task, family, np_, timeout)
     sel, plan, rc, hc, obj = s.run(alpha)
     fr = s.frontier()
     if rc is None:
-        raise UnsolvableError("MEGA-Search found no plan executable by the robot"
-                              + (" before the time limit" if s.timed_out else ""))
+        raise UnsolvableError(
+            "MEGA-Search found no plan executable by the robot"
+            + (" before the time limit" if s.timed_out else "")
+        )
     chosen = FrontierPoint(tuple(task.names(sel)), sel, tuple(plan), rc, hc)
     return Solution(alpha, chosen, chosen.objective(alpha, fr.robot_optimal_cost), fr)
 
 
-def astar_frontier(task: TwoModelTask, family: GroundFamily, *, planner: str = "builtin",
-                   timeout: float | None = None, oracles=None) -> Frontier:
+def astar_frontier(
+    task: TwoModelTask,
+    family: GroundFamily,
+    *,
+    planner: str = "builtin",
+    timeout: float | None = None,
+    oracles=None,
+) -> Frontier:
     """Paper property 4: one MEGA-Search, its explored nodes re-scored for every alpha."""
     np_ = NodePlanner(task, family, planner, oracles=oracles)
     s = _Search(task, family, np_, timeout)

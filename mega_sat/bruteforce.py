@@ -31,8 +31,10 @@ class _Space:
 
     def __init__(self, task: GroundTask, state_limit: int):
         self.task = task
-        self.acts = [(_mask(a.pre), _mask(a.negpre), _mask(a.add), _mask(a.delete), a.cost,
-                      a.index) for a in task.actions]
+        self.acts = [
+            (_mask(a.pre), _mask(a.negpre), _mask(a.add), _mask(a.delete), a.cost, a.index)
+            for a in task.actions
+        ]
         self.goal = _mask(task.goal)
         init = _mask(task.init)
         # forward Dijkstra: g*(s) and the reachable graph
@@ -87,16 +89,19 @@ class BruteResult:
     plan: tuple[PlanStep, ...] | None
 
 
-def best_for_selection(family: GroundFamily, sel: frozenset[int], *,
-                       state_limit: int = 200_000) -> BruteResult:
+def best_for_selection(
+    family: GroundFamily, sel: frozenset[int], *, state_limit: int = 200_000
+) -> BruteResult:
     """Cheapest robot cost of a plan that is optimal in ``human + sel`` and valid for the
     robot."""
     hum = _Space(family.specialize(sel), state_limit)
     if hum.opt is None:
         return BruteResult(sel, None, None, None)
     rob = family.specialize(family.robot_selection)
-    racts = {a.index: (_mask(a.pre), _mask(a.negpre), _mask(a.add), _mask(a.delete), a.cost)
-             for a in rob.actions}
+    racts = {
+        a.index: (_mask(a.pre), _mask(a.negpre), _mask(a.add), _mask(a.delete), a.cost)
+        for a in rob.actions
+    }
     rgoal = _mask(rob.goal)
     start = (_mask(rob.init), hum.init)
     dist = {start: 0}
@@ -110,7 +115,7 @@ def best_for_selection(family: GroundFamily, sel: frozenset[int], *,
         d, _, (sr, sh) = heapq.heappop(heap)
         if d > dist[(sr, sh)]:
             continue
-        if (sr & rgoal == rgoal and sh & hum.goal == hum.goal and hum.g[sh] == c_star):
+        if sr & rgoal == rgoal and sh & hum.goal == hum.goal and hum.g[sh] == c_star:
             plan = []
             node = (sr, sh)
             while node in parent:
@@ -136,9 +141,9 @@ def best_for_selection(family: GroundFamily, sel: frozenset[int], *,
     return BruteResult(sel, c_star, None, None)
 
 
-def brute_force_frontier(task: TwoModelTask, family: GroundFamily, *,
-                         state_limit: int = 200_000) -> tuple[int, tuple[FrontierPoint, ...],
-                                                              dict[frozenset[int], BruteResult]]:
+def brute_force_frontier(
+    task: TwoModelTask, family: GroundFamily, *, state_limit: int = 200_000
+) -> tuple[int, tuple[FrontierPoint, ...], dict[frozenset[int], BruteResult]]:
     """``(C*_R, Pareto frontier, per-selection results)`` by enumerating every subset."""
     n = len(task.delta)
     robot = _Space(family.specialize(family.robot_selection), state_limit)
@@ -152,13 +157,19 @@ def brute_force_frontier(task: TwoModelTask, family: GroundFamily, *,
             r = best_for_selection(family, sel, state_limit=state_limit)
             results[sel] = r
             if r.robot_cost is not None:
-                points.append(FrontierPoint(tuple(task.names(sel)), sel, r.plan, r.robot_cost,
-                                            r.human_cost))
+                points.append(
+                    FrontierPoint(tuple(task.names(sel)), sel, r.plan, r.robot_cost, r.human_cost)
+                )
     return robot.opt, pareto_filter(points), results
 
 
-def brute_force_mce(task: TwoModelTask, family: GroundFamily, plan: Sequence[PlanStep], *,
-                    state_limit: int = 200_000) -> int | None:
+def brute_force_mce(
+    task: TwoModelTask,
+    family: GroundFamily,
+    plan: Sequence[PlanStep],
+    *,
+    state_limit: int = 200_000,
+) -> int | None:
     """Size of the smallest ``E`` making ``plan`` optimal in ``human + E`` (None: none)."""
     from mega_sat.simulate import simulate_ground
 

@@ -40,14 +40,23 @@ def _friendly(fn):
 def task_options(fn):
     """The four model files, or ``--task DIR``."""
     opts = [
-        click.option("--task", "task_dir", type=click.Path(), default=None,
-                     help="Folder with robot-problem.pddl [human-problem.pddl]; the domains "
-                          "are found there or in its parent."),
+        click.option(
+            "--task",
+            "task_dir",
+            type=click.Path(),
+            default=None,
+            help="Folder with robot-problem.pddl [human-problem.pddl]; the domains "
+            "are found there or in its parent.",
+        ),
         click.option("--robot-domain", type=click.Path(), default=None),
         click.option("--robot-problem", type=click.Path(), default=None),
         click.option("--human-domain", type=click.Path(), default=None),
-        click.option("--human-problem", type=click.Path(), default=None,
-                     help="Defaults to the robot problem."),
+        click.option(
+            "--human-problem",
+            type=click.Path(),
+            default=None,
+            help="Defaults to the robot problem.",
+        ),
         click.option("-v", "--verbose", is_flag=True, help="Report grounding sizes and stats."),
     ]
     for o in reversed(opts):
@@ -62,18 +71,34 @@ def _load(task_dir, robot_domain, robot_problem, human_domain, human_problem):
         if any((robot_domain, robot_problem, human_domain, human_problem)):
             raise UsageError("give either --task DIR or the model files, not both")
         paths = resolve_task_dir(task_dir)
-        return load_task(paths["robot_domain"], paths["robot_problem"], paths["human_domain"],
-                         paths.get("human_problem"))
-    missing = [n for n, v in (("--robot-domain", robot_domain), ("--robot-problem", robot_problem),
-                              ("--human-domain", human_domain)) if not v]
+        return load_task(
+            paths["robot_domain"],
+            paths["robot_problem"],
+            paths["human_domain"],
+            paths.get("human_problem"),
+        )
+    missing = [
+        n
+        for n, v in (
+            ("--robot-domain", robot_domain),
+            ("--robot-problem", robot_problem),
+            ("--human-domain", human_domain),
+        )
+        if not v
+    ]
     if missing:
         raise UsageError(f"missing {', '.join(missing)} (or give --task DIR)")
     return load_task(robot_domain, robot_problem, human_domain, human_problem)
 
 
 def _task_from(kw):
-    return _load(kw.pop("task_dir"), kw.pop("robot_domain"), kw.pop("robot_problem"),
-                 kw.pop("human_domain"), kw.pop("human_problem"))
+    return _load(
+        kw.pop("task_dir"),
+        kw.pop("robot_domain"),
+        kw.pop("robot_problem"),
+        kw.pop("human_domain"),
+        kw.pop("human_problem"),
+    )
 
 
 def _verbose_family(solver, verbose: bool) -> None:
@@ -100,8 +125,12 @@ def diff(as_json, verbose, **kw):
     """Print the model difference Delta, one update per line."""
     task = _task_from(kw)
     if as_json:
-        click.echo(json.dumps({"model_difference": [u.name for u in task.delta],
-                               "size": len(task.delta)}, indent=2))
+        click.echo(
+            json.dumps(
+                {"model_difference": [u.name for u in task.delta], "size": len(task.delta)},
+                indent=2,
+            )
+        )
         return
     for u in task.delta:
         click.echo(u.name)
@@ -120,10 +149,20 @@ def _read_explanation(task, path):
 
 @main.command()
 @task_options
-@click.option("--explanation", "explanation", type=click.Path(), required=True,
-              help="File of add-.../remove-... lines (as printed by diff/solve).")
-@click.option("--out", "out_dir", type=click.Path(), required=True,
-              help="Folder for domain.pddl and problem.pddl of human + E.")
+@click.option(
+    "--explanation",
+    "explanation",
+    type=click.Path(),
+    required=True,
+    help="File of add-.../remove-... lines (as printed by diff/solve).",
+)
+@click.option(
+    "--out",
+    "out_dir",
+    type=click.Path(),
+    required=True,
+    help="Folder for domain.pddl and problem.pddl of human + E.",
+)
 @click.option("--force", is_flag=True, help="Overwrite existing files.")
 @_friendly
 def apply(explanation, out_dir, force, verbose, **kw):
@@ -146,8 +185,10 @@ def _single_or_family(domain, problem, kw, model, explanation):
     if domain or problem:
         if not (domain and problem):
             raise UsageError("--domain and --problem go together")
-        if any(kw.get(k) for k in ("task_dir", "robot_domain", "robot_problem", "human_domain",
-                                   "human_problem")):
+        if any(
+            kw.get(k)
+            for k in ("task_dir", "robot_domain", "robot_problem", "human_domain", "human_problem")
+        ):
             raise UsageError("give either --domain/--problem or a model family, not both")
         task = load_task(domain, problem, domain, problem)
         return task, frozenset()
@@ -163,10 +204,18 @@ def _single_or_family(domain, problem, kw, model, explanation):
 @click.option("--domain", type=click.Path(), default=None)
 @click.option("--problem", type=click.Path(), default=None)
 @task_options
-@click.option("--model", type=click.Choice(["robot", "human"]), default="robot",
-              help="Family member to plan for (with the family options).")
-@click.option("--explanation", type=click.Path(), default=None,
-              help="Plan for human + E (with --model human).")
+@click.option(
+    "--model",
+    type=click.Choice(["robot", "human"]),
+    default="robot",
+    help="Family member to plan for (with the family options).",
+)
+@click.option(
+    "--explanation",
+    type=click.Path(),
+    default=None,
+    help="Plan for human + E (with --model human).",
+)
 @click.option("--planner", type=PLANNER, default="builtin", show_default=True)
 @click.option("--out", "out", type=click.Path(), default=None, help="Write the plan file.")
 @click.option("--force", is_flag=True, help="Overwrite --out.")
@@ -184,8 +233,11 @@ def plan(domain, problem, model, explanation, planner, out, force, as_json, verb
     if verbose:
         click.echo(f"; ground task: {fam.describe()}", err=True)
     r = NodePlanner(task, fam, planner).optimal(sel)
-    where = problem or (task.sources.get("robot_problem") if sel == task.all_updates
-                        else task.sources.get("human_problem"))
+    where = problem or (
+        task.sources.get("robot_problem")
+        if sel == task.all_updates
+        else task.sources.get("human_problem")
+    )
     if r.status == "unsolvable":
         raise UnsolvableError("the problem has no plan (proven by " + planner + ")", path=where)
     if r.status != "optimal":
@@ -193,9 +245,18 @@ def plan(domain, problem, model, explanation, planner, out, force, as_json, verb
     if as_json:
         from mega_sat.family import step_str
 
-        click.echo(json.dumps({"plan": [step_str(s) for s in r.plan], "cost": r.cost,
-                               "planner": planner, "exact": r.exact,
-                               "time_s": round(r.time_s, 6)}, indent=2))
+        click.echo(
+            json.dumps(
+                {
+                    "plan": [step_str(s) for s in r.plan],
+                    "cost": r.cost,
+                    "planner": planner,
+                    "exact": r.exact,
+                    "time_s": round(r.time_s, 6),
+                },
+                indent=2,
+            )
+        )
     else:
         click.echo(format_plan(r.plan, r.cost), nl=False)
         if not r.exact:
@@ -223,8 +284,17 @@ def validate(plan_file, domain, problem, model, explanation, as_json, verbose, *
     m = task.robot if sel == task.all_updates else task.updated_model(sel)
     sim = simulate(m, steps)
     if as_json:
-        click.echo(json.dumps({"valid": sim.valid, "cost": sim.cost,
-                               "failed_step": sim.failed_step, "reason": sim.reason}, indent=2))
+        click.echo(
+            json.dumps(
+                {
+                    "valid": sim.valid,
+                    "cost": sim.cost,
+                    "failed_step": sim.failed_step,
+                    "reason": sim.reason,
+                },
+                indent=2,
+            )
+        )
     elif sim.valid:
         click.echo(f"valid: {len(steps)} steps, cost {sim.cost}")
     else:
@@ -238,11 +308,19 @@ def validate(plan_file, domain, problem, model, explanation, as_json, verbose, *
 @main.command()
 @task_options
 @click.option("--kind", type=click.Choice(["opt", "joint"]), default="opt", show_default=True)
-@click.option("--explanation", type=click.Path(), default=None,
-              help="Candidate E (default: empty, the human model).")
+@click.option(
+    "--explanation",
+    type=click.Path(),
+    default=None,
+    help="Candidate E (default: empty, the human model).",
+)
 @click.option("--robot-bound", type=int, default=None, help="JOINT: robot cost <= K.")
-@click.option("--human-bound", type=int, default=None,
-              help="Cost bound (OPT: human cost <= c; JOINT: human cost <= c).")
+@click.option(
+    "--human-bound",
+    type=int,
+    default=None,
+    help="Cost bound (OPT: human cost <= c; JOINT: human cost <= c).",
+)
 @click.option("--out", "out_dir", type=click.Path(), required=True)
 @click.option("--force", is_flag=True)
 @_friendly
@@ -261,8 +339,15 @@ def encode(kind, explanation, robot_bound, human_bound, out_dir, force, verbose,
         if v is not None and v < 0:
             raise UsageError(f"{name} must be >= 0, got {v}")
     try:
-        files = export(fam, sel, kind=kind, out_dir=out, robot_bound=robot_bound,
-                       human_bound=human_bound, update_names=[u.name for u in task.delta])
+        files = export(
+            fam,
+            sel,
+            kind=kind,
+            out_dir=out,
+            robot_bound=robot_bound,
+            human_bound=human_bound,
+            update_names=[u.name for u in task.delta],
+        )
     except ValueError as e:
         raise UsageError(str(e)) from None
     for name, path in files.items():
@@ -275,17 +360,31 @@ def encode(kind, explanation, robot_bound, human_bound, out_dir, force, verbose,
 def engine_options(fn):
     opts = [
         click.option("--engine", type=ENGINE, default="sat", show_default=True),
-        click.option("--planner", type=PLANNER, default="builtin", show_default=True,
-                     help="Optimal planner for candidate models: per-node planner of astar, "
-                          "OPT oracle of sat (JOINT is always SAT)."),
+        click.option(
+            "--planner",
+            type=PLANNER,
+            default="builtin",
+            show_default=True,
+            help="Optimal planner for candidate models: per-node planner of astar, "
+            "OPT oracle of sat (JOINT is always SAT).",
+        ),
         click.option("--hitting-set", type=HITTING, default="rc2", show_default=True),
-        click.option("--timeout", type=float, default=None,
-                     help="Seconds; the sat engine then returns what it has proven so far."),
+        click.option(
+            "--timeout",
+            type=float,
+            default=None,
+            help="Seconds; the sat engine then returns what it has proven so far.",
+        ),
         click.option("--json", "as_json", is_flag=True, help="Print one JSON object."),
-        click.option("--verify", "do_verify", is_flag=True,
-                     help="Check every returned pair independently."),
-        click.option("--write-model", type=click.Path(), default=None,
-                     help="Write human + E (domain, problem) and the plan of every pair."),
+        click.option(
+            "--verify", "do_verify", is_flag=True, help="Check every returned pair independently."
+        ),
+        click.option(
+            "--write-model",
+            type=click.Path(),
+            default=None,
+            help="Write human + E (domain, problem) and the plan of every pair.",
+        ),
         click.option("--force", is_flag=True, help="Overwrite files in --write-model."),
     ]
     for o in reversed(opts):
@@ -296,23 +395,28 @@ def engine_options(fn):
 def _solver(task, engine, planner, hitting_set, timeout):
     from mega_sat.api import MegaSolver
 
-    return MegaSolver(task, engine=engine, planner=planner, hitting_set=hitting_set,
-                      timeout=timeout)
+    return MegaSolver(
+        task, engine=engine, planner=planner, hitting_set=hitting_set, timeout=timeout
+    )
 
 
 def _point_text(p, c_robot, alpha=None, objective=None) -> list[str]:
     from mega_sat.family import step_str
 
-    lines = [f"Plan ({len(p.plan)} steps, robot cost {p.robot_cost}, "
-             f"human cost {p.human_cost}, explicability cost {p.robot_cost - c_robot}):"]
+    lines = [
+        f"Plan ({len(p.plan)} steps, robot cost {p.robot_cost}, "
+        f"human cost {p.human_cost}, explicability cost {p.robot_cost - c_robot}):"
+    ]
     lines += [f"  {step_str(s)}" for s in p.plan]
     if p.explanation:
         lines += [f"Explanation >> {e}" for e in p.explanation]
     else:
         lines.append("Explanation >> (none: the plan is already optimal for the human)")
     if objective is not None:
-        lines.append(f"|E| = {p.size}, objective = {p.size} + {alpha:g} * "
-                     f"{p.robot_cost - c_robot} = {objective:g}")
+        lines.append(
+            f"|E| = {p.size}, objective = {p.size} + {alpha:g} * "
+            f"{p.robot_cost - c_robot} = {objective:g}"
+        )
     return lines
 
 
@@ -325,8 +429,15 @@ def _write_models(solver, points, out_dir, force):
     for k, p in enumerate(points):
         d = out / f"point-{k}-E{p.size}"
         m = solver.task.updated_model(p.selection)
-        written += list(write_model(m, d, domain_file="human-domain.pddl",
-                                    problem_file="human-problem.pddl", overwrite=force))
+        written += list(
+            write_model(
+                m,
+                d,
+                domain_file="human-domain.pddl",
+                problem_file="human-problem.pddl",
+                overwrite=force,
+            )
+        )
         plan_path = d / "plan.ipc"
         write_plan(plan_path, p.plan, p.robot_cost, overwrite=force)
         exp_path = d / "explanation.txt"
@@ -353,12 +464,27 @@ def _status_line(fr) -> str:
 
 @main.command()
 @task_options
-@click.option("--alpha", type=str, required=True,
-              help="Weight of the robot's extra cost against explanation length (>= 0).")
+@click.option(
+    "--alpha",
+    type=str,
+    required=True,
+    help="Weight of the robot's extra cost against explanation length (>= 0).",
+)
 @engine_options
 @_friendly
-def solve(alpha, engine, planner, hitting_set, timeout, as_json, do_verify, write_model, force,
-          verbose, **kw):
+def solve(
+    alpha,
+    engine,
+    planner,
+    hitting_set,
+    timeout,
+    as_json,
+    do_verify,
+    write_model,
+    force,
+    verbose,
+    **kw,
+):
     """MEGA: the plan and explanation for one alpha."""
     try:
         a = float(alpha)
@@ -384,8 +510,10 @@ def solve(alpha, engine, planner, hitting_set, timeout, as_json, do_verify, writ
     else:
         for line in _point_text(sol.chosen, fr.robot_optimal_cost, a, sol.objective):
             click.echo(line)
-        click.echo(f"robot optimal cost {fr.robot_optimal_cost}; |Delta| = "
-                   f"{len(fr.model_difference)}; engine {fr.engine}; time {elapsed:.3f}s")
+        click.echo(
+            f"robot optimal cost {fr.robot_optimal_cost}; |Delta| = "
+            f"{len(fr.model_difference)}; engine {fr.engine}; time {elapsed:.3f}s"
+        )
         click.echo(_status_line(fr))
         for rep in reports:
             click.echo("verify: " + ("passed" if rep.ok else "FAILED"))
@@ -401,8 +529,9 @@ def solve(alpha, engine, planner, hitting_set, timeout, as_json, do_verify, writ
 @task_options
 @engine_options
 @_friendly
-def frontier(engine, planner, hitting_set, timeout, as_json, do_verify, write_model, force,
-             verbose, **kw):
+def frontier(
+    engine, planner, hitting_set, timeout, as_json, do_verify, write_model, force, verbose, **kw
+):
     """All Pareto-optimal (|E|, robot cost) pairs: one run answers every alpha."""
     task = _task_from(kw)
     s = _solver(task, engine, planner, hitting_set, timeout)
@@ -418,9 +547,11 @@ def frontier(engine, planner, hitting_set, timeout, as_json, do_verify, write_mo
             d["verify"] = [r.to_dict() for r in reports]
         click.echo(json.dumps(d, indent=2))
     else:
-        click.echo(f"robot optimal cost {fr.robot_optimal_cost}; |Delta| = "
-                   f"{len(fr.model_difference)}; {len(fr.points)} frontier point(s); "
-                   f"engine {fr.engine}; time {fr.time_s:.3f}s")
+        click.echo(
+            f"robot optimal cost {fr.robot_optimal_cost}; |Delta| = "
+            f"{len(fr.model_difference)}; {len(fr.points)} frontier point(s); "
+            f"engine {fr.engine}; time {fr.time_s:.3f}s"
+        )
         for k, p in enumerate(fr.points):
             click.echo(f"\n[{k}] |E| = {p.size}, robot cost {p.robot_cost}")
             for line in _point_text(p, fr.robot_optimal_cost):
@@ -430,8 +561,9 @@ def frontier(engine, planner, hitting_set, timeout, as_json, do_verify, write_mo
         click.echo("")
         click.echo(_status_line(fr))
         if fr.next_size_lower_bound is not None:
-            click.echo(f"lower bound on |E| for the next (cheaper) point: "
-                       f"{fr.next_size_lower_bound}")
+            click.echo(
+                f"lower bound on |E| for the next (cheaper) point: {fr.next_size_lower_bound}"
+            )
     if verbose:
         click.echo(f"; stats {json.dumps(fr.stats)}", err=True)
     if reports and not all(r.ok for r in reports):
@@ -440,8 +572,13 @@ def frontier(engine, planner, hitting_set, timeout, as_json, do_verify, write_mo
 
 @main.command()
 @task_options
-@click.option("--plan", "plan_file", type=click.Path(), default=None,
-              help="Plan to explain (default: a robot-optimal plan).")
+@click.option(
+    "--plan",
+    "plan_file",
+    type=click.Path(),
+    default=None,
+    help="Plan to explain (default: a robot-optimal plan).",
+)
 @click.option("--planner", type=PLANNER, default="builtin", show_default=True)
 @click.option("--hitting-set", type=HITTING, default="rc2", show_default=True)
 @click.option("--timeout", type=float, default=None)
@@ -466,16 +603,20 @@ def explain(plan_file, planner, hitting_set, timeout, as_json, do_verify, verbos
             d["verify"] = rep.to_dict()
         click.echo(json.dumps(d, indent=2))
     else:
-        click.echo(f"Plan ({len(ex.plan)} steps, robot cost {ex.robot_cost}, "
-                   f"human cost after explanation {ex.human_cost}):")
+        click.echo(
+            f"Plan ({len(ex.plan)} steps, robot cost {ex.robot_cost}, "
+            f"human cost after explanation {ex.human_cost}):"
+        )
         for st in ex.plan:
             click.echo(f"  {step_str(st)}")
         for e in ex.explanation:
             click.echo(f"Explanation >> {e}")
         if not ex.explanation:
             click.echo("Explanation >> (none needed)")
-        click.echo(f"|E| = {len(ex.explanation)}; time {ex.time_s:.3f}s; "
-                   + ("exact: yes" if ex.exact else "exact: no (" + "; ".join(ex.notes) + ")"))
+        click.echo(
+            f"|E| = {len(ex.explanation)}; time {ex.time_s:.3f}s; "
+            + ("exact: yes" if ex.exact else "exact: no (" + "; ".join(ex.notes) + ")")
+        )
         if rep:
             click.echo("verify: " + ("passed" if rep.ok else "FAILED"))
             for line in rep.lines():
@@ -488,10 +629,14 @@ def explain(plan_file, planner, hitting_set, timeout, as_json, do_verify, verbos
 @task_options
 @click.option("--explanation", type=click.Path(), required=True)
 @click.option("--plan", "plan_file", type=click.Path(), required=True)
-@click.option("--checker", type=PLANNER, default=None,
-              help="Planner that re-derives the optimum of human + E (default: fd when "
-                   "installed, else sat: not the built-in planner that produces answers by "
-                   "default).")
+@click.option(
+    "--checker",
+    type=PLANNER,
+    default=None,
+    help="Planner that re-derives the optimum of human + E (default: fd when "
+    "installed, else sat: not the built-in planner that produces answers by "
+    "default).",
+)
 @click.option("--json", "as_json", is_flag=True)
 @_friendly
 def verify(explanation, plan_file, checker, as_json, verbose, **kw):
@@ -529,16 +674,19 @@ def generate(robot_domain, robot_problem, k, seed, out_dir, force):
     from mega_sat.generate import write_instance
 
     g = write_instance(robot_domain, robot_problem, k, seed, out_dir, overwrite=force)
-    click.echo(f"wrote {out_dir} (|Delta| = {len(g.updates)}, seed {seed}, "
-               f"{g.attempts} draw(s)):")
+    click.echo(f"wrote {out_dir} (|Delta| = {len(g.updates)}, seed {seed}, {g.attempts} draw(s)):")
     for u in g.updates:
         click.echo(f"  {u.name}")
 
 
 @main.command("generate-suite")
 @click.argument("domains_dir", type=click.Path(), default="domains")
-@click.option("--deltas", default="2,7,10", show_default=True,
-              help="Comma-separated sizes of the model difference.")
+@click.option(
+    "--deltas",
+    default="2,7,10",
+    show_default=True,
+    help="Comma-separated sizes of the model difference.",
+)
 @click.option("--seed", type=int, default=0, show_default=True)
 @click.option("--force", is_flag=True)
 @_friendly
@@ -561,8 +709,14 @@ def generate_suite(domains_dir, deltas, seed, force):
                 s = instance_seed(seed, d.name, prob.name, k)
                 out = d / "delta" / str(k) / prob.name
                 try:
-                    g = write_instance(d / "robot-domain.pddl", prob / "robot-problem.pddl", k,
-                                       s, out, overwrite=force)
+                    g = write_instance(
+                        d / "robot-domain.pddl",
+                        prob / "robot-problem.pddl",
+                        k,
+                        s,
+                        out,
+                        overwrite=force,
+                    )
                 except MegaSatError as e:
                     failed.append(out)
                     click.echo(f"{out}: skipped: {e.message}", err=True)

@@ -162,13 +162,23 @@ class GroundFamily:
             if not holds(a.exists, sel):
                 continue
             acts.append(
-                StripsAction(i, a.name, a.args, keep(a.pre), keep(a.negpre), keep(a.add),
-                             keep(a.delete), a.cost_in(sel)))
+                StripsAction(
+                    i,
+                    a.name,
+                    a.args,
+                    keep(a.pre),
+                    keep(a.negpre),
+                    keep(a.add),
+                    keep(a.delete),
+                    a.cost_in(sel),
+                )
+            )
         return GroundTask(self.atoms, tuple(acts), keep(self.init), keep(self.goal))
 
     def describe(self) -> str:
-        return (f"{len(self.atoms)} atoms, {len(self.actions)} ground actions, "
-                f"{self.n_updates} updates")
+        return (
+            f"{len(self.atoms)} atoms, {len(self.actions)} ground actions, {self.n_updates} updates"
+        )
 
     def atom_name(self, i: int) -> str:
         return atom_pddl(self.atoms[i])

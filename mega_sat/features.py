@@ -136,8 +136,14 @@ def model_difference(robot: Model, human: Model) -> tuple[Update, ...]:
 
         ups.append(Update(f, False))
     # kind, then additions before removals (the paper prints adds first), then name
-    ups.sort(key=lambda u: (KIND_ORDER[u.feature.kind], not u.robot_has, u.feature.action,
-                            u.feature.atom))
+    ups.sort(
+        key=lambda u: (
+            KIND_ORDER[u.feature.kind],
+            not u.robot_has,
+            u.feature.action,
+            u.feature.atom,
+        )
+    )
     return tuple(ups)
 
 

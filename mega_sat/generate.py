@@ -28,8 +28,10 @@ class Generated:
 
 
 def _param_types(s: Schema, type_preds: frozenset[str]) -> dict[str, frozenset[str]]:
-    return {p: frozenset(a[0] for a in s.pre if len(a) == 2 and a[1] == p and a[0] in type_preds)
-            for p in s.params}
+    return {
+        p: frozenset(a[0] for a in s.pre if len(a) == 2 and a[1] == p and a[0] in type_preds)
+        for p in s.params
+    }
 
 
 def _candidate_updates(robot: Model, reachable: frozenset[Atom]) -> list[Update]:
@@ -60,14 +62,16 @@ def _candidate_updates(robot: Model, reachable: frozenset[Atom]) -> list[Update]
                 continue
             args = tuple(o[0] for o in options)
             atom = (pred, *args)
-            for kind, have in ((PRE, s.pre), (NEGPRE, s.negpre), (ADD, s.add),
-                               (DEL, s.delete)):
+            for kind, have in ((PRE, s.pre), (NEGPRE, s.negpre), (ADD, s.add), (DEL, s.delete)):
                 if atom not in have:
                     cands.append(Update(Feature(kind, s.name, atom), False))
     extra = sorted(a for a in reachable if a[0] not in tp)
     cands += [Update(Feature(INIT, "", a), False) for a in extra if a not in robot.init]
-    cands += [Update(Feature(GOAL, "", a), False) for a in extra
-              if a not in robot.goal and a[0] not in _static_preds(robot)]
+    cands += [
+        Update(Feature(GOAL, "", a), False)
+        for a in extra
+        if a not in robot.goal and a[0] not in _static_preds(robot)
+    ]
     return cands
 
 
@@ -76,8 +80,9 @@ def _static_preds(m: Model) -> set[str]:
     return set(m.predicates) - changed
 
 
-def generate_human(robot: Model, k: int, seed: int, *, max_attempts: int = 200,
-                   time_limit: float = 30.0) -> Generated:
+def generate_human(
+    robot: Model, k: int, seed: int, *, max_attempts: int = 200, time_limit: float = 30.0
+) -> Generated:
     """A human model with ``|Delta| == k`` against ``robot``, both problems solvable.
 
     A candidate ``Update(f, True)`` above means "the robot has f and the human will not"
@@ -94,13 +99,16 @@ def generate_human(robot: Model, k: int, seed: int, *, max_attempts: int = 200,
     if r.status == "unsolvable":
         raise UnsolvableError("the robot problem has no plan; nothing to generate from")
     if r.status != "optimal":
-        raise UsageError(f"no plan of the robot problem found within {time_limit:g}s; "
-                         "cannot check that generated models stay solvable")
+        raise UsageError(
+            f"no plan of the robot problem found within {time_limit:g}s; "
+            "cannot check that generated models stay solvable"
+        )
     reachable = frozenset(rt.atoms)
     cands = _candidate_updates(robot, reachable)
     if len(cands) < k:
-        raise UsageError(f"the robot model offers only {len(cands)} features to flip; "
-                         f"--delta {k} is too large")
+        raise UsageError(
+            f"the robot model offers only {len(cands)} features to flip; --delta {k} is too large"
+        )
     rng = random.Random(seed)
     for attempt in range(1, max_attempts + 1):
         picks = rng.sample(cands, k)
@@ -114,12 +122,15 @@ def generate_human(robot: Model, k: int, seed: int, *, max_attempts: int = 200,
         if h.status != "optimal":
             continue
         return Generated(human, task.delta, attempt)
-    raise UsageError(f"no solvable human model with |Delta| = {k} found in {max_attempts} "
-                     f"seeded draws (seed {seed})")
+    raise UsageError(
+        f"no solvable human model with |Delta| = {k} found in {max_attempts} "
+        f"seeded draws (seed {seed})"
+    )
 
 
-def write_instance(robot_domain: str, robot_problem: str, k: int, seed: int, out_dir,
-                   *, overwrite: bool = False) -> Generated:
+def write_instance(
+    robot_domain: str, robot_problem: str, k: int, seed: int, out_dir, *, overwrite: bool = False
+) -> Generated:
     """Generate and write a task folder: the robot files copied verbatim, the human files
     written by mega-sat, so ``--task out_dir`` loads it."""
     import shutil
@@ -136,8 +147,13 @@ def write_instance(robot_domain: str, robot_problem: str, k: int, seed: int, out
         if t.exists() and not overwrite:
             raise UsageError("file exists (use --force to overwrite)", path=str(t))
     out.mkdir(parents=True, exist_ok=True)
-    write_model(g.human, out, domain_file="human-domain.pddl",
-                problem_file="human-problem.pddl", overwrite=overwrite)
+    write_model(
+        g.human,
+        out,
+        domain_file="human-domain.pddl",
+        problem_file="human-problem.pddl",
+        overwrite=overwrite,
+    )
     shutil.copyfile(robot_domain, targets[0])
     shutil.copyfile(robot_problem, targets[1])
     return g

@@ -24,10 +24,16 @@ from mega_sat.support import exclusion_clause, support, tight_support
 from mega_sat.task import TwoModelTask
 
 
-def minimal_explanation(task: TwoModelTask, family: GroundFamily,
-                        plan: Sequence[PlanStep] | None = None, *, planner: str = "builtin",
-                        hitting_set: str = "rc2", oracles=None,
-                        timeout: float | None = None) -> Explanation:
+def minimal_explanation(
+    task: TwoModelTask,
+    family: GroundFamily,
+    plan: Sequence[PlanStep] | None = None,
+    *,
+    planner: str = "builtin",
+    hitting_set: str = "rc2",
+    oracles=None,
+    timeout: float | None = None,
+) -> Explanation:
     """Smallest ``E`` making ``plan`` (default: a robot-optimal plan) optimal in ``human + E``."""
     t0 = time.perf_counter()
     np_ = NodePlanner(task, family, planner, oracles=oracles)
@@ -37,9 +43,12 @@ def minimal_explanation(task: TwoModelTask, family: GroundFamily,
     if plan is None:
         r = np_.optimal(family.robot_selection)
         if r.status != "optimal":
-            raise UnsolvableError("the robot problem has no plan" if r.status == "unsolvable"
-                                  else f"no plan found for the robot problem ({r.reason})",
-                                  path=robot_src)
+            raise UnsolvableError(
+                "the robot problem has no plan"
+                if r.status == "unsolvable"
+                else f"no plan found for the robot problem ({r.reason})",
+                path=robot_src,
+            )
         plan = r.plan
         exact &= r.exact
     plan = tuple(tuple(s) for s in plan)
@@ -54,8 +63,10 @@ def minimal_explanation(task: TwoModelTask, family: GroundFamily,
                 raise UsageError(f"no explanation found within the time limit of {timeout}s")
             sel = hs.minimum()
             if sel is None:
-                raise UsageError("no explanation makes this plan optimal in the human's model "
-                                 "(it is not optimal in the robot model either)")
+                raise UsageError(
+                    "no explanation makes this plan optimal in the human's model "
+                    "(it is not optimal in the robot model either)"
+                )
             calls["candidates"] += 1
             sim = simulate_ground(family.specialize(sel), plan)
             if not sim.valid:
@@ -73,17 +84,30 @@ def minimal_explanation(task: TwoModelTask, family: GroundFamily,
             exact &= opt.exact
             if sim.cost <= opt.cost:
                 return Explanation(
-                    plan=plan, explanation=tuple(task.names(sel)), selection=sel,
-                    robot_cost=sim_r.cost, human_cost=sim.cost, exact=exact,
-                    notes=tuple(dict.fromkeys(notes)), time_s=time.perf_counter() - t0,
-                    stats={**calls, "planner": planner, "hitting_set": hitting_set,
-                           "hitting_set_calls": hs.calls})
+                    plan=plan,
+                    explanation=tuple(task.names(sel)),
+                    selection=sel,
+                    robot_cost=sim_r.cost,
+                    human_cost=sim.cost,
+                    exact=exact,
+                    notes=tuple(dict.fromkeys(notes)),
+                    time_s=time.perf_counter() - t0,
+                    stats={
+                        **calls,
+                        "planner": planner,
+                        "hitting_set": hitting_set,
+                        "hitting_set_calls": hs.calls,
+                    },
+                )
             # plan costs the same, pi* still runs at cost <= c*: the plan stays non-optimal
-            cost_guards = {i for s in plan for guards, _ in
-                           family.actions[family.action_index[s]].cost for i, _ in guards}
+            cost_guards = {
+                i
+                for s in plan
+                for guards, _ in family.actions[family.action_index[s]].cost
+                for i, _ in guards
+            }
             on = cost_guards | {i for i, _ in tight_support(family, sel, opt.plan)}
             hs.add(exclusion_clause(sel, on))
             calls["learned"] += 1
     finally:
         hs.close()
-

@@ -40,8 +40,16 @@ class NodePlanner:
     """Answers ``optimal(selection)`` for one task with one planner; keeps what it can alive
     (the SAT oracles, the ground family) across calls."""
 
-    def __init__(self, task: TwoModelTask, family: GroundFamily, kind: str = "builtin", *,
-                 time_limit: float | None = None, oracles=None, solver: str = "cadical195"):
+    def __init__(
+        self,
+        task: TwoModelTask,
+        family: GroundFamily,
+        kind: str = "builtin",
+        *,
+        time_limit: float | None = None,
+        oracles=None,
+        solver: str = "cadical195",
+    ):
         if kind not in PLANNERS:
             raise UsageError(f"unknown planner {kind!r} (choose from {', '.join(PLANNERS)})")
         if kind == "fd":
@@ -82,12 +90,20 @@ class NodePlanner:
 
             r = solve_optimal(task, time_limit=self.time_limit)
             status = r.status if r.status in ("optimal", "unsolvable") else "unknown"
-            return NodePlan(status, r.plan, r.cost, status != "unknown", "builtin",
-                            time.perf_counter() - t0, "" if status != "unknown" else r.status)
+            return NodePlan(
+                status,
+                r.plan,
+                r.cost,
+                status != "unknown",
+                "builtin",
+                time.perf_counter() - t0,
+                "" if status != "unknown" else r.status,
+            )
         if self.kind == "sat":
             r = self.oracles.opt(sel)
-            return NodePlan(r.status, r.plan, r.cost, r.exact, "sat", time.perf_counter() - t0,
-                            r.reason)
+            return NodePlan(
+                r.status, r.plan, r.cost, r.exact, "sat", time.perf_counter() - t0, r.reason
+            )
         from mega_sat.fast_downward import fd_plan
         from mega_sat.pddl_writer import domain_to_pddl, problem_to_pddl
 
@@ -95,8 +111,9 @@ class NodePlanner:
         r = None
         if not any(s.negpre for s in model.schemas.values()):
             try:
-                r = fd_plan(domain_to_pddl(model), problem_to_pddl(model),
-                            time_limit=self.time_limit)
+                r = fd_plan(
+                    domain_to_pddl(model), problem_to_pddl(model), time_limit=self.time_limit
+                )
             except PlannerError as e:
                 if "exit code 34" not in str(e):
                     raise
@@ -115,11 +132,14 @@ class NodePlanner:
             plan = tuple(tuple(x.lower() for x in s) for s in r.plan)
             missing = [s for s in plan if s not in self.family.action_index]
             if missing:
-                raise PlannerError(f"Fast Downward returned an action outside the ground family: "
-                                   f"({' '.join(missing[0])})")
+                raise PlannerError(
+                    f"Fast Downward returned an action outside the ground family: "
+                    f"({' '.join(missing[0])})"
+                )
             return NodePlan("optimal", plan, r.cost, True, "fd", time.perf_counter() - t0)
-        return NodePlan(status, None, None, status != "unknown", "fd", time.perf_counter() - t0,
-                        r.status)
+        return NodePlan(
+            status, None, None, status != "unknown", "fd", time.perf_counter() - t0, r.status
+        )
 
 
 def ground_strips_pddl(task: GroundTask) -> tuple[str, str, dict[str, PlanStep]]:
@@ -147,17 +167,24 @@ def ground_strips_pddl(task: GroundTask) -> tuple[str, str, dict[str, PlanStep]]
         eff.append(f"(increase (total-cost) {a.cost})")
         name = f"act{k}"
         names[name] = a.step
-        actions.append(f"  (:action {name}\n    :parameters ()\n"
-                       f"    :precondition (and {' '.join(pre)})\n"
-                       f"    :effect (and {' '.join(eff)}))")
+        actions.append(
+            f"  (:action {name}\n    :parameters ()\n"
+            f"    :precondition (and {' '.join(pre)})\n"
+            f"    :effect (and {' '.join(eff)}))"
+        )
     preds = " ".join(f"(a{i})" for i in range(n_atoms))
-    domain = ("(define (domain ground)\n  (:requirements :strips :action-costs)\n"
-              f"  (:predicates {preds})\n  (:functions (total-cost) - number)\n"
-              + "\n".join(actions) + ")\n")
+    domain = (
+        "(define (domain ground)\n  (:requirements :strips :action-costs)\n"
+        f"  (:predicates {preds})\n  (:functions (total-cost) - number)\n"
+        + "\n".join(actions)
+        + ")\n"
+    )
     init = [atom(p) for p in sorted(task.init)]
     init += [atom(comp[p]) for p in neg if p not in task.init]
     goal = " ".join(atom(p) for p in sorted(task.goal))
-    problem = ("(define (problem ground-p) (:domain ground)\n"
-               f"  (:init {' '.join(init)} (= (total-cost) 0))\n"
-               f"  (:goal (and {goal}))\n  (:metric minimize (total-cost)))\n")
+    problem = (
+        "(define (problem ground-p) (:domain ground)\n"
+        f"  (:init {' '.join(init)} (= (total-cost) 0))\n"
+        f"  (:goal (and {goal}))\n  (:metric minimize (total-cost)))\n"
+    )
     return domain, problem, names

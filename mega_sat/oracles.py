@@ -123,8 +123,12 @@ def extra_cost_exact(task: GroundTask, c_min: int, node_limit: int) -> int:
     lm = extra_cost_bound(task, c_min)
     if c_min <= 0 or task.goal <= task.init or node_limit <= 0:
         return lm
-    low = GroundTask(task.atoms, tuple(replace(a, cost=a.cost - c_min) for a in task.actions),
-                     task.init, task.goal)
+    low = GroundTask(
+        task.atoms,
+        tuple(replace(a, cost=a.cost - c_min) for a in task.actions),
+        task.init,
+        task.goal,
+    )
     r = astar(low, heuristic="blind", node_limit=node_limit)
     if r.status == "optimal" and r.cost is not None:
         return max(lm, int(r.cost))
@@ -139,12 +143,24 @@ def family_relaxation(family: GroundFamily) -> GroundTask:
 
     acts = []
     for i, a in enumerate(family.actions):
-        acts.append(StripsAction(
-            i, a.name, a.args, frozenset(p for p, g in a.pre if g is None), frozenset(),
-            frozenset(p for p, _ in a.add), frozenset(),
-            min((v for _, v in a.cost), default=0)))
-    return GroundTask(family.atoms, tuple(acts), frozenset(p for p, _ in family.init),
-                      frozenset(p for p, g in family.goal if g is None))
+        acts.append(
+            StripsAction(
+                i,
+                a.name,
+                a.args,
+                frozenset(p for p, g in a.pre if g is None),
+                frozenset(),
+                frozenset(p for p, _ in a.add),
+                frozenset(),
+                min((v for _, v in a.cost), default=0),
+            )
+        )
+    return GroundTask(
+        family.atoms,
+        tuple(acts),
+        frozenset(p for p, _ in family.init),
+        frozenset(p for p, g in family.goal if g is None),
+    )
 
 
 def relaxed_bounds(task: GroundTask) -> tuple[int, int] | None:
@@ -227,8 +243,9 @@ class SatOracles:
         self.c_min_robot = min(robot_costs, default=self.c_min)
         self._dominance: dict[frozenset[int], bool] = {}
         # cost the cheapest plan must spend above N * c_min (tightens the JOINT horizon)
-        self.extra_robot = extra_cost_exact(self.task(family.robot_selection), self.c_min_robot,
-                                            extra_node_limit)
+        self.extra_robot = extra_cost_exact(
+            self.task(family.robot_selection), self.c_min_robot, extra_node_limit
+        )
         self.extra_human = extra_cost_bound(family_relaxation(family), self.c_min)
         self._opt_extra: dict[frozenset[int], tuple[int, int]] = {}
         # interruption: a flag checked between conflict-budget chunks (CaDiCaL holds the GIL
@@ -279,8 +296,7 @@ class SatOracles:
         self._deadline = deadline
         self._clear_interrupt()
         if deadline is not None:
-            self._timer = threading.Timer(max(0.0, deadline - time.perf_counter()),
-                                          self.interrupt)
+            self._timer = threading.Timer(max(0.0, deadline - time.perf_counter()), self.interrupt)
             self._timer.daemon = True
             self._timer.start()
 
@@ -536,8 +552,15 @@ class SatOracles:
         plan_lb = 0
         if human_lower_bound is not None and self._robot_dominates(sel):
             plan_lb = human_lower_bound
-        return self._joint(lits, robot_bound, human_bound, sel=sel, hints=hints,
-                           robot_lower_bound=robot_lower_bound, plan_lower_bound=plan_lb)
+        return self._joint(
+            lits,
+            robot_bound,
+            human_bound,
+            sel=sel,
+            hints=hints,
+            robot_lower_bound=robot_lower_bound,
+            plan_lower_bound=plan_lb,
+        )
 
     def joint_lits(
         self,
@@ -613,8 +636,11 @@ class SatOracles:
             h = 0
             return done("infeasible", core=frozenset(), why="negative bound")
         if robot_bound is not None and robot_bound < rlb:
-            return done("infeasible", core=frozenset(),
-                        why=f"robot cost bound {robot_bound} < robot lower bound {rlb}")
+            return done(
+                "infeasible",
+                core=frozenset(),
+                why=f"robot cost bound {robot_bound} < robot lower bound {rlb}",
+            )
         sel_lits = enc.lits_assumptions(lits)
         robot_task = self.task(self.family.robot_selection)
         best = None if sel is None else self._best_hint(hints, sel, robot_bound, human_bound, h)
@@ -636,8 +662,11 @@ class SatOracles:
         assert hc <= human_bound and (robot_bound is None or rc <= robot_bound)
         while True:
             if rc <= lb:
-                why = ("meets the robot lower bound" if rc <= rlb
-                       else "meets the human lower bound (robot costs dominate)")
+                why = (
+                    "meets the robot lower bound"
+                    if rc <= rlb
+                    else "meets the human lower bound (robot costs dominate)"
+                )
                 return done("plan", plan, rc, hc, sel=sel, why=why)
             # robot cost <= rc - 1 also bounds the plan length; the horizon may shrink
             h2 = min(self._joint_horizon(rc - 1, human_bound)[0], h)

@@ -161,11 +161,15 @@ def choose(frontier: Frontier, alpha: float) -> Solution:
     if not frontier.points:
         from mega_sat.errors import UnsolvableError
 
-        raise UnsolvableError("no MEGA solution found" + (
-            "" if frontier.complete else " before the time limit (try a larger --timeout)"))
+        raise UnsolvableError(
+            "no MEGA solution found"
+            + ("" if frontier.complete else " before the time limit (try a larger --timeout)")
+        )
     c = frontier.robot_optimal_cost
     a = exact_alpha(alpha)
-    best = min(frontier.points, key=lambda p: (p.size + a * (p.robot_cost - c), p.robot_cost, p.size))
+    best = min(
+        frontier.points, key=lambda p: (p.size + a * (p.robot_cost - c), p.robot_cost, p.size)
+    )
     return Solution(alpha, best, best.objective(alpha, c), frontier)
 
 

@@ -27,9 +27,16 @@ from mega_sat.support import exclusion_clause, tight_support, unsolvable_core
 from mega_sat.task import TwoModelTask
 
 
-def sat_frontier(task: TwoModelTask, family: GroundFamily, *, oracles=None,
-                 planner: str = "builtin", hitting_set: str = "rc2",
-                 solver: str = "cadical195", timeout: float | None = None) -> Frontier:
+def sat_frontier(
+    task: TwoModelTask,
+    family: GroundFamily,
+    *,
+    oracles=None,
+    planner: str = "builtin",
+    hitting_set: str = "rc2",
+    solver: str = "cadical195",
+    timeout: float | None = None,
+) -> Frontier:
     """Compute the Pareto frontier of MEGA solutions with the hitting-set loop.
 
     ``planner`` answers OPT (the optimal cost of a candidate model): ``builtin`` (explicit
@@ -73,17 +80,26 @@ def sat_frontier(task: TwoModelTask, family: GroundFamily, *, oracles=None,
     bound: int | None = None  # K: robot cost must be <= K (None: unbounded)
     complete = False
     lower_bound = None
-    stats = {"iterations": 0, "opt_calls": 0, "joint_calls": 0, "learned": 0,
-             "learned_literals": 0, "unsolvable_models": 0}
+    stats = {
+        "iterations": 0,
+        "opt_calls": 0,
+        "joint_calls": 0,
+        "learned": 0,
+        "learned_literals": 0,
+        "unsolvable_models": 0,
+    }
+
     def time_out():
         nonlocal lower_bound, complete
         nxt = hs.minimum()
         lower_bound = None if nxt is None else len(nxt)
         complete = nxt is None
         if not complete:
-            notes.append(f"time limit {timeout}s reached: frontier incomplete; any "
-                         f"solution cheaper than the last point needs |E| >= "
-                         f"{lower_bound}")
+            notes.append(
+                f"time limit {timeout}s reached: frontier incomplete; any "
+                f"solution cheaper than the last point needs |E| >= "
+                f"{lower_bound}"
+            )
 
     try:
         while True:
@@ -113,8 +129,11 @@ def sat_frontier(task: TwoModelTask, family: GroundFamily, *, oracles=None,
                 else:
                     exact = False
                     notes.append(f"OPT undecided for a model with |E|={len(sel)}: {opt.reason}")
-                _learn(hs, exclusion_clause(sel, on if on is not None else range(len(task.delta))),
-                       stats)
+                _learn(
+                    hs,
+                    exclusion_clause(sel, on if on is not None else range(len(task.delta))),
+                    stats,
+                )
                 continue
             if not opt.exact:
                 exact = False
@@ -122,9 +141,14 @@ def sat_frontier(task: TwoModelTask, family: GroundFamily, *, oracles=None,
             try:
                 # pi* is a witness if the robot can run it within K; c_robot and (when costs
                 # allow) c* are proven lower bounds that spare the final UNSAT call
-                res = orc.joint(sel, bound, opt.cost, hints=(opt.plan,),
-                                robot_lower_bound=robot_lb,
-                                human_lower_bound=opt.cost if opt.exact else None)
+                res = orc.joint(
+                    sel,
+                    bound,
+                    opt.cost,
+                    hints=(opt.plan,),
+                    robot_lower_bound=robot_lb,
+                    human_lower_bound=opt.cost if opt.exact else None,
+                )
             except OracleInterrupted:
                 time_out()
                 break
@@ -133,8 +157,11 @@ def sat_frontier(task: TwoModelTask, family: GroundFamily, *, oracles=None,
                 exact = False
                 notes.append(f"JOINT not exact (|E|={len(sel)}): {res.reason}")
             if res.plan is not None:
-                points.append(FrontierPoint(tuple(task.names(sel)), sel, tuple(res.plan),
-                                            res.robot_cost, res.human_cost))
+                points.append(
+                    FrontierPoint(
+                        tuple(task.names(sel)), sel, tuple(res.plan), res.robot_cost, res.human_cost
+                    )
+                )
                 if res.robot_cost <= c_robot:
                     complete = True
                     break
@@ -157,9 +184,14 @@ def sat_frontier(task: TwoModelTask, family: GroundFamily, *, oracles=None,
         notes=tuple(dict.fromkeys(notes)),
         next_size_lower_bound=lower_bound,
         time_s=time.perf_counter() - t0,
-        stats={**stats, "opt_planner": planner, "opt_time_s": round(opt_planner.time_s, 6),
-               "hitting_set": hitting_set, "hitting_set_calls": hs.calls,
-               **getattr(orc, "stats", {})},
+        stats={
+            **stats,
+            "opt_planner": planner,
+            "opt_time_s": round(opt_planner.time_s, 6),
+            "hitting_set": hitting_set,
+            "hitting_set_calls": hs.calls,
+            **getattr(orc, "stats", {}),
+        },
     )
 
 
@@ -173,8 +205,9 @@ def _robot_timeout(task: TwoModelTask, timeout):
     from mega_sat.errors import PlannerError
 
     src = task.sources.get("robot_problem", "robot problem")
-    return PlannerError(f"time limit {timeout}s reached before the robot optimum was found",
-                        path=src)
+    return PlannerError(
+        f"time limit {timeout}s reached before the robot optimum was found", path=src
+    )
 
 
 def _require_robot_plan(task: TwoModelTask, robot) -> None:

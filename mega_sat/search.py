@@ -278,5 +278,11 @@ def solve_optimal(
         return r
     rest = None if time_limit is None else time_limit - (time.perf_counter() - t0)
     r2 = astar(task, heuristic="lmcut", time_limit=rest)
-    return PlanResult(r2.status, r2.plan, r2.cost, r.expanded + r2.expanded,
-                      time.perf_counter() - t0, "builtin(blind+lmcut)")
+    return PlanResult(
+        r2.status,
+        r2.plan,
+        r2.cost,
+        r.expanded + r2.expanded,
+        time.perf_counter() - t0,
+        "builtin(blind+lmcut)",
+    )

@@ -36,8 +36,9 @@ def exclusion_clause(selection: frozenset[int], on: Iterable[int]) -> tuple[Guar
     return tuple(sorted((i, i not in selection) for i in set(on)))
 
 
-def _relaxed_goal_reachable(family: GroundFamily, selection: frozenset[int],
-                            fixed: frozenset[int]) -> bool:
+def _relaxed_goal_reachable(
+    family: GroundFamily, selection: frozenset[int], fixed: frozenset[int]
+) -> bool:
     """Delete-relaxed reachability of the goal in the most permissive model that agrees with
     ``selection`` on ``fixed``: an unfixed guard counts as present for initial atoms, add
     effects and schema existence, and as absent for preconditions and goals."""
@@ -81,8 +82,9 @@ def unsolvable_core(family: GroundFamily, selection: frozenset[int]) -> frozense
     return fixed
 
 
-def tight_support(family: GroundFamily, selection: frozenset[int],
-                  plan: Sequence[PlanStep]) -> tuple[GuardLit, ...]:
+def tight_support(
+    family: GroundFamily, selection: frozenset[int], plan: Sequence[PlanStep]
+) -> tuple[GuardLit, ...]:
     """Literals that keep ``plan`` executable at no higher cost in every selection satisfying
     them, where ``plan`` runs in ``human + selection``.
 

@@ -23,9 +23,15 @@ def _rename(atoms: frozenset[Atom], ren: dict[str, str]) -> frozenset[Atom]:
     return frozenset((a[0],) + tuple(ren.get(x, x) for x in a[1:]) for a in atoms)
 
 
-def align_human(robot: Model, human: Model, *, robot_name: str = "the robot domain",
-                human_name: str = "the human domain", robot_problem_name: str | None = None,
-                human_problem_name: str | None = None) -> Model:
+def align_human(
+    robot: Model,
+    human: Model,
+    *,
+    robot_name: str = "the robot domain",
+    human_name: str = "the human domain",
+    robot_problem_name: str | None = None,
+    human_problem_name: str | None = None,
+) -> Model:
     """Rename the human's schema parameters to the robot's, matching them by position.
 
     Raises :class:`ModelMismatchError` on a schema or predicate of different arity.  The
@@ -36,14 +42,16 @@ def align_human(robot: Model, human: Model, *, robot_name: str = "the robot doma
         if p in robot.predicates and robot.predicates[p] != n:
             raise ModelMismatchError(
                 f"predicate '{p}' has {robot.predicates[p]} argument(s) in {robot_name} "
-                f"but {n} in {human_name}")
+                f"but {n} in {human_name}"
+            )
     for term in set(robot.functions) ^ set(human.functions):
         if term in robot.functions:
             side = robot_problem_name or robot_name.replace("domain", "problem")
         else:
             side = human_problem_name or human_name.replace("domain", "problem")
         raise ModelMismatchError(
-            f"cost function value ({' '.join(term)}) is defined only in {side}")
+            f"cost function value ({' '.join(term)}) is defined only in {side}"
+        )
     schemas: dict[str, Schema] = {}
     for name, hs in human.schemas.items():
         rs = robot.schemas.get(name)
@@ -53,19 +61,34 @@ def align_human(robot: Model, human: Model, *, robot_name: str = "the robot doma
         if len(rs.params) != len(hs.params):
             raise ModelMismatchError(
                 f"action '{name}' has {len(rs.params)} parameter(s) in {robot_name} but "
-                f"{len(hs.params)} in {human_name}")
+                f"{len(hs.params)} in {human_name}"
+            )
         ren = dict(zip(hs.params, rs.params, strict=True))
         cost = hs.cost
         if not isinstance(cost, int):
             cost = (cost[0],) + tuple(ren.get(x, x) for x in cost[1:])
-        schemas[name] = Schema(name, rs.params, _rename(hs.pre, ren), _rename(hs.negpre, ren),
-                               _rename(hs.add, ren), _rename(hs.delete, ren), cost)
+        schemas[name] = Schema(
+            name,
+            rs.params,
+            _rename(hs.pre, ren),
+            _rename(hs.negpre, ren),
+            _rename(hs.add, ren),
+            _rename(hs.delete, ren),
+            cost,
+        )
     return Model(
-        domain_name=human.domain_name, problem_name=human.problem_name,
-        predicates=human.predicates, schemas=schemas, objects=human.objects,
-        init=human.init, goal=human.goal, type_predicates=human.type_predicates,
-        functions=human.functions, function_arities=human.function_arities,
-        uses_costs=human.uses_costs)
+        domain_name=human.domain_name,
+        problem_name=human.problem_name,
+        predicates=human.predicates,
+        schemas=schemas,
+        objects=human.objects,
+        init=human.init,
+        goal=human.goal,
+        type_predicates=human.type_predicates,
+        functions=human.functions,
+        function_arities=human.function_arities,
+        uses_costs=human.uses_costs,
+    )
 
 
 @dataclass(frozen=True)
@@ -81,14 +104,18 @@ class TwoModelTask:
     sources: dict[str, str] = field(default_factory=dict, compare=False)
 
     @classmethod
-    def from_models(cls, robot: Model, human: Model,
-                    sources: dict[str, str] | None = None) -> TwoModelTask:
+    def from_models(
+        cls, robot: Model, human: Model, sources: dict[str, str] | None = None
+    ) -> TwoModelTask:
         sources = sources or {}
-        human = align_human(robot, human,
-                            robot_name=sources.get("robot_domain", "the robot domain"),
-                            human_name=sources.get("human_domain", "the human domain"),
-                            robot_problem_name=sources.get("robot_problem"),
-                            human_problem_name=sources.get("human_problem"))
+        human = align_human(
+            robot,
+            human,
+            robot_name=sources.get("robot_domain", "the robot domain"),
+            human_name=sources.get("human_domain", "the human domain"),
+            robot_problem_name=sources.get("robot_problem"),
+            human_problem_name=sources.get("human_problem"),
+        )
         return cls(robot, human, model_difference(robot, human), dict(sources))
 
     @cached_property
@@ -109,12 +136,15 @@ class TwoModelTask:
         for lineno, raw in enumerate(names, 1):
             line = raw.strip()
             if line.startswith("Explanation >>"):
-                line = line[len("Explanation >>"):].strip()
+                line = line[len("Explanation >>") :].strip()
             if not line or line.startswith(";") or line.startswith("#"):
                 continue
             if line not in self.update_index:
-                raise UsageError(f"'{line}' is not an update of the model difference "
-                                 "(see 'mega-sat diff')", path=path, where=f"line {lineno}")
+                raise UsageError(
+                    f"'{line}' is not an update of the model difference (see 'mega-sat diff')",
+                    path=path,
+                    where=f"line {lineno}",
+                )
             out.add(self.update_index[line])
         return frozenset(out)
 

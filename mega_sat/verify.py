@@ -38,8 +38,10 @@ class VerifyReport:
         return [f"{'ok  ' if c.ok else 'FAIL'} {c.name}: {c.detail}" for c in self.checks]
 
     def to_dict(self) -> dict:
-        return {"ok": self.ok,
-                "checks": [{"name": c.name, "ok": c.ok, "detail": c.detail} for c in self.checks]}
+        return {
+            "ok": self.ok,
+            "checks": [{"name": c.name, "ok": c.ok, "detail": c.detail} for c in self.checks],
+        }
 
 
 def checker_for(producer: str) -> str:
@@ -52,28 +54,56 @@ def checker_for(producer: str) -> str:
     return "fd" if fd_available() else "sat"
 
 
-def verify_pair(task: TwoModelTask, family: GroundFamily, selection: frozenset[int],
-                plan: Sequence[PlanStep], *, producer: str = "sat",
-                robot_cost: int | None = None, human_cost: int | None = None,
-                use_val: bool = True, checker: str | None = None) -> VerifyReport:
+def verify_pair(
+    task: TwoModelTask,
+    family: GroundFamily,
+    selection: frozenset[int],
+    plan: Sequence[PlanStep],
+    *,
+    producer: str = "sat",
+    robot_cost: int | None = None,
+    human_cost: int | None = None,
+    use_val: bool = True,
+    checker: str | None = None,
+) -> VerifyReport:
     """Check one answer; ``robot_cost``/``human_cost``, when given, must match the simulation."""
     from mega_sat.node_planner import NodePlanner
 
     plan = tuple(tuple(s) for s in plan)
     checks: list[Check] = []
     sim_r = simulate(task.robot, plan)
-    checks.append(Check("valid in robot model", sim_r.valid,
-                        f"cost {sim_r.cost}" if sim_r.valid else sim_r.reason or "invalid"))
+    checks.append(
+        Check(
+            "valid in robot model",
+            sim_r.valid,
+            f"cost {sim_r.cost}" if sim_r.valid else sim_r.reason or "invalid",
+        )
+    )
     if robot_cost is not None and sim_r.valid:
-        checks.append(Check("robot cost as reported", sim_r.cost == robot_cost,
-                            f"reported {robot_cost}, simulated {sim_r.cost}"))
+        checks.append(
+            Check(
+                "robot cost as reported",
+                sim_r.cost == robot_cost,
+                f"reported {robot_cost}, simulated {sim_r.cost}",
+            )
+        )
     updated = task.updated_model(selection)
     sim_h = simulate(updated, plan)
-    checks.append(Check("valid in human + E", sim_h.valid,
-                        f"cost {sim_h.cost}" if sim_h.valid else sim_h.reason or "invalid"))
+    checks.append(
+        Check(
+            "valid in human + E",
+            sim_h.valid,
+            f"cost {sim_h.cost}" if sim_h.valid else sim_h.reason or "invalid",
+        )
+    )
     if human_cost is not None and sim_h.valid:
-        checks.append(Check("human cost as reported", sim_h.cost == human_cost,
-                            f"reported {human_cost}, simulated {sim_h.cost}"))
+        checks.append(
+            Check(
+                "human cost as reported",
+                sim_h.cost == human_cost,
+                f"reported {human_cost}, simulated {sim_h.cost}",
+            )
+        )
     kind = checker or checker_for(producer)
     opt = NodePlanner(task, family, kind).optimal(frozenset(selection))
     if opt.status == "optimal":
@@ -83,8 +113,13 @@ def verify_pair(task: TwoModelTask, family: GroundFamily, selection: frozenset[i
             good, detail = False, detail + f" (not proven: {opt.reason})"
         checks.append(Check("optimal in human + E", good, detail))
     else:
-        checks.append(Check("optimal in human + E", False,
-                            f"{kind} found no optimal plan of human + E ({opt.status})"))
+        checks.append(
+            Check(
+                "optimal in human + E",
+                False,
+                f"{kind} found no optimal plan of human + E ({opt.status})",
+            )
+        )
     if use_val:
         from mega_sat.val import val_available
 
@@ -94,6 +129,11 @@ def verify_pair(task: TwoModelTask, family: GroundFamily, selection: frozenset[i
 
             for label, model in (("robot model", task.robot), ("human + E", updated)):
                 v = val_validate(domain_to_pddl(model), problem_to_pddl(model), plan)
-                checks.append(Check(f"VAL: valid in {label}", v.valid,
-                                    f"cost {v.cost}" if v.valid else v.message))
+                checks.append(
+                    Check(
+                        f"VAL: valid in {label}",
+                        v.valid,
+                        f"cost {v.cost}" if v.valid else v.message,
+                    )
+                )
     return VerifyReport(tuple(checks))

@@ -75,12 +75,22 @@ def test_solve_json_schema_and_verify():
     res = run("solve", "--task", USAR, "--alpha", "0.1", "--json", "--verify")
     assert res.exit_code == 0, res.output
     d = json.loads(res.output)
-    for key in ("robot_optimal_cost", "model_difference", "frontier", "alpha", "chosen",
-                "engine", "exact", "time_s", "stats"):
+    for key in (
+        "robot_optimal_cost",
+        "model_difference",
+        "frontier",
+        "alpha",
+        "chosen",
+        "engine",
+        "exact",
+        "time_s",
+        "stats",
+    ):
         assert key in d
     assert d["exact"] is True and d["engine"] == "sat"
     assert [len(p["explanation"]) for p in d["frontier"]] == sorted(
-        len(p["explanation"]) for p in d["frontier"])
+        len(p["explanation"]) for p in d["frontier"]
+    )
     for p in d["frontier"] + [d["chosen"]]:
         assert set(p) >= {"explanation", "plan", "robot_cost", "human_cost"}
     assert "objective" in d["chosen"]
@@ -105,22 +115,45 @@ def test_write_model_and_verify_files(tmp_path):
     # writing again without --force is refused, with --force allowed
     again = run("solve", "--task", USAR, "--alpha", "0.1", "--write-model", out)
     assert again.exit_code == 2 and "exists" in _single_error_line(again)
-    assert run("solve", "--task", USAR, "--alpha", "0.1", "--write-model", out,
-               "--force").exit_code == 0
-    ok = run("verify", "--task", USAR, "--explanation", point / "explanation.txt", "--plan",
-             point / "plan.ipc")
+    assert (
+        run("solve", "--task", USAR, "--alpha", "0.1", "--write-model", out, "--force").exit_code
+        == 0
+    )
+    ok = run(
+        "verify",
+        "--task",
+        USAR,
+        "--explanation",
+        point / "explanation.txt",
+        "--plan",
+        point / "plan.ipc",
+    )
     assert ok.exit_code == 0 and "verify: passed" in ok.output
     # tampering: drop the explanation line -> the plan is no longer optimal for the human
     (tmp_path / "empty.txt").write_text("")
-    bad = run("verify", "--task", USAR, "--explanation", tmp_path / "empty.txt", "--plan",
-              point / "plan.ipc")
+    bad = run(
+        "verify",
+        "--task",
+        USAR,
+        "--explanation",
+        tmp_path / "empty.txt",
+        "--plan",
+        point / "plan.ipc",
+    )
     assert bad.exit_code == 1 and "FAIL" in bad.output
     # tampering: swap two plan steps -> not executable
     steps = (point / "plan.ipc").read_text().splitlines()
     steps[1], steps[2] = steps[2], steps[1]
     (tmp_path / "swapped.ipc").write_text("\n".join(steps) + "\n")
-    bad2 = run("verify", "--task", USAR, "--explanation", point / "explanation.txt", "--plan",
-               tmp_path / "swapped.ipc")
+    bad2 = run(
+        "verify",
+        "--task",
+        USAR,
+        "--explanation",
+        point / "explanation.txt",
+        "--plan",
+        tmp_path / "swapped.ipc",
+    )
     assert bad2.exit_code == 1 and "FAIL valid in robot model" in bad2.output
 
 
@@ -136,21 +169,42 @@ def test_plan_validate_apply_encode(toy, tmp_path):
     assert res.exit_code == 0
     assert res.output.splitlines() == ["(go a b)", "; cost = 1 (general cost)"]
     for planner in ("sat", "builtin"):
-        r = run("plan", "--domain", toy / "d.pddl", "--problem", toy / "p.pddl", "--planner",
-                planner, "--json")
+        r = run(
+            "plan",
+            "--domain",
+            toy / "d.pddl",
+            "--problem",
+            toy / "p.pddl",
+            "--planner",
+            planner,
+            "--json",
+        )
         assert json.loads(r.output)["cost"] == 1
     (tmp_path / "plan.ipc").write_text("(go a b)\n")
-    ok = run("validate", "--plan", tmp_path / "plan.ipc", "--domain", toy / "d.pddl",
-             "--problem", toy / "p.pddl")
+    ok = run(
+        "validate",
+        "--plan",
+        tmp_path / "plan.ipc",
+        "--domain",
+        toy / "d.pddl",
+        "--problem",
+        toy / "p.pddl",
+    )
     assert ok.exit_code == 0 and "valid: 1 steps, cost 1" in ok.output
     (tmp_path / "bad.ipc").write_text("(go b a)\n")
-    bad = run("validate", "--plan", tmp_path / "bad.ipc", "--domain", toy / "d.pddl",
-              "--problem", toy / "p.pddl")
+    bad = run(
+        "validate",
+        "--plan",
+        tmp_path / "bad.ipc",
+        "--domain",
+        toy / "d.pddl",
+        "--problem",
+        toy / "p.pddl",
+    )
     assert bad.exit_code == 1 and "step 1" in bad.output and "(at b)" in bad.output
     # apply writes human + E; encode writes DIMACS files
     (tmp_path / "e.txt").write_text("remove-has-initial-state-clear_path p1 p8\n")
-    ap = run("apply", "--task", USAR, "--explanation", tmp_path / "e.txt", "--out",
-             tmp_path / "hE")
+    ap = run("apply", "--task", USAR, "--explanation", tmp_path / "e.txt", "--out", tmp_path / "hE")
     assert ap.exit_code == 0
     assert "clear_path p1 p8" not in (tmp_path / "hE" / "problem.pddl").read_text()
     en = run("encode", "--task", USAR, "--out", tmp_path / "cnf")
@@ -178,16 +232,32 @@ def test_error_unsupported_construct(toy):
 def test_error_unsolvable_robot(toy):
     res = run("plan", "--domain", toy / "d.pddl", "--problem", toy / "unsolvable.pddl")
     assert res.exit_code == 3 and "no plan" in _single_error_line(res)
-    res = run("solve", "--robot-domain", toy / "d.pddl", "--robot-problem",
-              toy / "unsolvable.pddl", "--human-domain", toy / "d.pddl", "--alpha", "1")
+    res = run(
+        "solve",
+        "--robot-domain",
+        toy / "d.pddl",
+        "--robot-problem",
+        toy / "unsolvable.pddl",
+        "--human-domain",
+        toy / "d.pddl",
+        "--alpha",
+        "1",
+    )
     line = _single_error_line(res)
     assert res.exit_code == 3 and "unsolvable.pddl" in line and "no plan" in line
 
 
 def test_error_mismatched_signatures(toy):
     (toy / "h.pddl").write_text(DOMAIN.replace(":parameters (?x ?y)", ":parameters (?x ?y ?z)"))
-    res = run("diff", "--robot-domain", toy / "d.pddl", "--robot-problem", toy / "p.pddl",
-              "--human-domain", toy / "h.pddl")
+    res = run(
+        "diff",
+        "--robot-domain",
+        toy / "d.pddl",
+        "--robot-problem",
+        toy / "p.pddl",
+        "--human-domain",
+        toy / "h.pddl",
+    )
     line = _single_error_line(res)
     assert res.exit_code == 2 and "'go'" in line and "parameter" in line
 
@@ -201,8 +271,7 @@ def test_error_bad_alpha(alpha):
 
 def test_error_unknown_update(tmp_path):
     (tmp_path / "e.txt").write_text("add-has-initial-state-clear_path p9 p9\n")
-    res = run("apply", "--task", USAR, "--explanation", tmp_path / "e.txt", "--out",
-              tmp_path / "o")
+    res = run("apply", "--task", USAR, "--explanation", tmp_path / "e.txt", "--out", tmp_path / "o")
     line = _single_error_line(res)
     assert res.exit_code == 2 and "e.txt: line 1" in line and "not an update" in line
 
@@ -217,7 +286,9 @@ def test_error_missing_task_files(tmp_path):
 def test_error_apply_refuses_overwrite(tmp_path):
     (tmp_path / "e.txt").write_text("")
     out = tmp_path / "hE"
-    assert run("apply", "--task", USAR, "--explanation", tmp_path / "e.txt", "--out",
-               out).exit_code == 0
+    assert (
+        run("apply", "--task", USAR, "--explanation", tmp_path / "e.txt", "--out", out).exit_code
+        == 0
+    )
     res = run("apply", "--task", USAR, "--explanation", tmp_path / "e.txt", "--out", out)
     assert res.exit_code == 2 and "exists" in _single_error_line(res)

@@ -31,11 +31,26 @@ DOCUMENTED_DELTA = {
     "usar-fetch/p1": 3, "usar-fetch/p2": 4, "usar-fetch/p3": 5,
 }  # fmt: skip
 # where the explicit brute-force oracle (2^|Delta| models, paired-state search) runs in seconds
-ORACLE_FAST = ["barman-bar/p1", "blocksworld/p1", "blocksworld/p2", "blocksworld/p3",
-               "rover-martian/p1", "usar-fetch/p1", "usar-fetch/p2", "usar-fetch/p3"]
+ORACLE_FAST = [
+    "barman-bar/p1",
+    "blocksworld/p1",
+    "blocksworld/p2",
+    "blocksworld/p3",
+    "rover-martian/p1",
+    "usar-fetch/p1",
+    "usar-fetch/p2",
+    "usar-fetch/p3",
+]
 # where SAT OPT proves optimality in well under a second per model
-SAT_OPT_FAST = ["blocksworld/p1", "blocksworld/p2", "blocksworld/p3", "usar-fetch/p1",
-                "usar-fetch/p2", "usar-fetch/p3", "barman-bar/p1"]
+SAT_OPT_FAST = [
+    "blocksworld/p1",
+    "blocksworld/p2",
+    "blocksworld/p3",
+    "usar-fetch/p1",
+    "usar-fetch/p2",
+    "usar-fetch/p3",
+    "barman-bar/p1",
+]
 
 
 def _task(rel: str):
@@ -64,8 +79,12 @@ def test_generated_instances_have_their_delta():
 @pytest.mark.parametrize("rel", BASE)
 def test_round_trip_through_writer(rel):
     task = _task(rel)
-    models = [task.robot, task.human, task.updated_model(task.all_updates),
-              task.updated_model(range(0, len(task.delta), 2))]
+    models = [
+        task.robot,
+        task.human,
+        task.updated_model(task.all_updates),
+        task.updated_model(range(0, len(task.delta), 2)),
+    ]
     for m in models:
         back = parse_model(domain_to_pddl(m), problem_to_pddl(m))
         assert gamma(back) == gamma(m)
@@ -102,8 +121,15 @@ def test_sat_frontier_equals_oracle_and_verifies(rel):
     assert fr.exact and fr.robot_optimal_cost == c_r
     assert [(p.size, p.robot_cost) for p in fr.points] == [(p.size, p.robot_cost) for p in pts]
     for p in fr.points:
-        rep = verify_pair(task, solver.family, p.selection, p.plan, producer="builtin",
-                          robot_cost=p.robot_cost, human_cost=p.human_cost)
+        rep = verify_pair(
+            task,
+            solver.family,
+            p.selection,
+            p.plan,
+            producer="builtin",
+            robot_cost=p.robot_cost,
+            human_cost=p.human_cost,
+        )
         assert rep.ok, rep.lines()
     # MCE of the robot-optimal plan found is never smaller than the frontier's robot-optimal end
     assert len(solver.explain().explanation) >= fr.points[-1].size

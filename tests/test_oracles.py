@@ -188,8 +188,7 @@ def test_joint_hints_and_lower_bounds_do_not_change_answers(fam: GroundFamily, d
         bad = ((("no-such-action",),), (fam.actions[0].step,) * 3, ())
         good = orc.joint(sel, rb, hb)
         hints = [*bad, *([good.plan] if good.plan is not None else [])]
-        r = orc.joint(sel, rb, hb, hints=hints, robot_lower_bound=c_robot,
-                      human_lower_bound=c_star)
+        r = orc.joint(sel, rb, hb, hints=hints, robot_lower_bound=c_robot, human_lower_bound=c_star)
         assert r.exact
         if best is None:
             assert r.status == "infeasible" and r.core is not None

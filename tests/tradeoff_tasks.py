@@ -16,17 +16,30 @@ from mega_sat.task import TwoModelTask
 
 
 def _schemas(rough_cost: int, clear_cost: int) -> dict[str, Schema]:
-    move = Schema("move", ("?a", "?b"),
-                  pre=frozenset({("at", "?a"), ("path", "?a", "?b")}),
-                  add=frozenset({("at", "?b")}), delete=frozenset({("at", "?a")}), cost=1)
-    rough = Schema("move_rough", ("?a", "?b"),
-                   pre=frozenset({("at", "?a"), ("rough", "?a", "?b")}),
-                   add=frozenset({("at", "?b")}), delete=frozenset({("at", "?a")}),
-                   cost=rough_cost)
-    clear = Schema("clear_passage", ("?a", "?b"),
-                   pre=frozenset({("at", "?a"), ("rubble", "?a", "?b")}),
-                   add=frozenset({("path", "?a", "?b")}),
-                   delete=frozenset({("rubble", "?a", "?b")}), cost=clear_cost)
+    move = Schema(
+        "move",
+        ("?a", "?b"),
+        pre=frozenset({("at", "?a"), ("path", "?a", "?b")}),
+        add=frozenset({("at", "?b")}),
+        delete=frozenset({("at", "?a")}),
+        cost=1,
+    )
+    rough = Schema(
+        "move_rough",
+        ("?a", "?b"),
+        pre=frozenset({("at", "?a"), ("rough", "?a", "?b")}),
+        add=frozenset({("at", "?b")}),
+        delete=frozenset({("at", "?a")}),
+        cost=rough_cost,
+    )
+    clear = Schema(
+        "clear_passage",
+        ("?a", "?b"),
+        pre=frozenset({("at", "?a"), ("rubble", "?a", "?b")}),
+        add=frozenset({("path", "?a", "?b")}),
+        delete=frozenset({("rubble", "?a", "?b")}),
+        cost=clear_cost,
+    )
     permit = Schema("get_permit", (), pre=frozenset(), add=frozenset({("permit",)}), cost=2)
     return {s.name: s for s in (move, rough, clear, permit)}
 
@@ -55,15 +68,32 @@ def tradeoff_tasks(draw, max_schema_flips: int = 2) -> TwoModelTask:
             if hk:
                 human_facts.add((hk, a, b))
     schemas = _schemas(draw(st.integers(1, 3)), draw(st.integers(2, 5)))
-    robot = Model("maps", "p", {"at": 1, "path": 2, "rough": 2, "rubble": 2, "permit": 0},
-                  schemas, frozenset(nodes), frozenset(robot_facts), frozenset({("at", "g")}),
-                  uses_costs=True)
-    human = Model("maps", "p", robot.predicates, schemas, frozenset(nodes),
-                  frozenset(human_facts), robot.goal, uses_costs=True)
-    extra = [Update(Feature(PRE, "move_rough", ("permit",)), True),
-             Update(Feature(PRE, "clear_passage", ("permit",)), True),
-             Update(Feature(COST, "clear_passage", (str(draw(st.integers(1, 6))),)), True),
-             Update(Feature(COST, "move_rough", (str(draw(st.integers(1, 4))),)), True)]
+    robot = Model(
+        "maps",
+        "p",
+        {"at": 1, "path": 2, "rough": 2, "rubble": 2, "permit": 0},
+        schemas,
+        frozenset(nodes),
+        frozenset(robot_facts),
+        frozenset({("at", "g")}),
+        uses_costs=True,
+    )
+    human = Model(
+        "maps",
+        "p",
+        robot.predicates,
+        schemas,
+        frozenset(nodes),
+        frozenset(human_facts),
+        robot.goal,
+        uses_costs=True,
+    )
+    extra = [
+        Update(Feature(PRE, "move_rough", ("permit",)), True),
+        Update(Feature(PRE, "clear_passage", ("permit",)), True),
+        Update(Feature(COST, "clear_passage", (str(draw(st.integers(1, 6))),)), True),
+        Update(Feature(COST, "move_rough", (str(draw(st.integers(1, 4))),)), True),
+    ]
     k = draw(st.integers(0, max_schema_flips))
     picks = draw(st.lists(st.sampled_from(extra), min_size=k, max_size=k, unique=True))
     human = apply_updates(human, robot, picks)
