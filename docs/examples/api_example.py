@@ -18,14 +18,18 @@ solver = api.MegaSolver(task)  # engine="sat", planner="builtin", hitting_set="r
 fr = solver.frontier()
 print(f"robot optimum {fr.robot_optimal_cost}, exact {fr.exact}, complete {fr.complete}")
 for p in fr.points:
-    print(f"  |E| = {p.size}, robot cost {p.robot_cost}, human cost {p.human_cost}:",
-          list(p.explanation))
+    print(
+        f"  |E| = {p.size}, robot cost {p.robot_cost}, human cost {p.human_cost}:",
+        list(p.explanation),
+    )
 
 # 3. Every alpha is answered from the same frontier (paper property 4).
 for alpha in (0.1, 0.5, 1.0):
     sol = solver.solve(alpha)
-    print(f"alpha {alpha}: |E| = {sol.chosen.size}, robot cost {sol.chosen.robot_cost}, "
-          f"objective {sol.objective:g}")
+    print(
+        f"alpha {alpha}: |E| = {sol.chosen.size}, robot cost {sol.chosen.robot_cost}, "
+        f"objective {sol.objective:g}"
+    )
 
 # 4. MCE of a robot-optimal plan, and an independent check of an answer.
 mce = solver.explain()
@@ -51,8 +55,9 @@ PROBLEM = """(define (problem rooms-1) (:domain rooms) (:objects r1 r2 r3 r4 r5)
   (:init (at r1) (door r1 r2) (door r2 r4) (door r1 r3) (door r3 r5) (door r5 r4)
          (lit r3) (lit r4) (lit r5))
   (:goal (and (at r4))))"""
-small = api.load_task_from_strings(DOMAIN.format(extra=""), PROBLEM,
-                                   DOMAIN.format(extra=" (lit ?b)"))
+small = api.load_task_from_strings(
+    DOMAIN.format(extra=""), PROBLEM, DOMAIN.format(extra=" (lit ?b)")
+)
 small_fr = api.frontier(small)
 print("Delta:", [u.name for u in small.delta])
 for p in small_fr.points:
