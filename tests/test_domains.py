@@ -135,6 +135,22 @@ def test_sat_frontier_equals_oracle_and_verifies(rel):
     assert len(solver.explain().explanation) >= fr.points[-1].size
 
 
+# Frontiers computed by domains/check_domains.py --frontier: Fast Downward on every subset of
+# Delta plus a joint robot/human problem, no mega-sat code involved (our own brute force takes
+# minutes on these).  Regenerate with: python domains/check_domains.py --frontier rover-martian/p2
+FD_BRUTE_FORCE = {"rover-martian/p2": [(0, 28), (1, 24), (2, 20), (3, 18)]}
+
+
+@pytest.mark.parametrize("rel", sorted(FD_BRUTE_FORCE))
+def test_sat_frontier_equals_fd_brute_force(rel):
+    solver = MegaSolver(_task(rel))
+    fr = solver.frontier()
+    assert fr.exact
+    assert [(p.size, p.robot_cost) for p in fr.points] == FD_BRUTE_FORCE[rel]
+    for p in fr.points:
+        assert solver.verify(p, use_val=False).ok
+
+
 def test_usar_paper_outputs_exactly():
     solver = MegaSolver(_task("usar-fetch/p1"))
     low = solver.solve(0.1).chosen
