@@ -9,7 +9,7 @@ A block to keep current looks like this in any ``.md`` file::
     ```
 
 ``python docs/sync.py`` re-runs every such command from the repository root and rewrites the
-block; ``python docs/sync.py --check`` fails if any block differs from a fresh run (timings,
+block (blocks marked ``<!-- run (slow): ... -->`` only with ``--slow``: they take minutes); ``python docs/sync.py --check`` fails if any block differs from a fresh run (timings,
 memory and paths under /tmp are masked), so documented output cannot silently rot.
 """
 
@@ -24,7 +24,9 @@ import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-BLOCK = re.compile(r"(<!-- run: (?P<cmd>.+?) -->\n)```console\n(?P<body>.*?)```\n", re.S)
+BLOCK = re.compile(
+    r"(<!-- run(?P<slow> \(slow\))?: (?P<cmd>.+?) -->\n)```console\n(?P<body>.*?)```\n", re.S
+)
 MASKS = [
     (re.compile(r"\d+\.\d+s\b"), "<T>s"),
     (re.compile(r'"time_s": [0-9.e-]+'), '"time_s": <T>'),
@@ -68,13 +70,15 @@ def files(patterns: list[str]) -> list[Path]:
     return out
 
 
-def sync(path: Path, check: bool) -> list[str]:
+def sync(path: Path, check: bool, slow: bool = False) -> list[str]:
     """Rewrite (or check) one file; returns the commands whose output differs."""
     text = path.read_text()
     stale: list[str] = []
 
     def repl(m: re.Match) -> str:
         cmd = m.group("cmd").strip()
+        if m.group("slow") and not slow:
+            return m.group(0)  # long-running: only regenerated (and checked) with --slow
         fresh = render(cmd)
         if mask(fresh) != mask(m.group("body")):
             stale.append(cmd)
@@ -89,12 +93,14 @@ def sync(path: Path, check: bool) -> list[str]:
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--check", action="store_true", help="Fail on stale blocks; write nothing.")
+    ap.add_argument("--slow", action="store_true",
+                    help="Also run blocks marked '<!-- run (slow): ... -->' (minutes each).")
     ap.add_argument("files", nargs="*", help="Markdown files (default: README, docs, domains).")
     args = ap.parse_args()
     targets = [Path(f).resolve() for f in args.files] or files(DEFAULT_FILES)
     bad = 0
     for f in targets:
-        stale = sync(f, args.check)
+        stale = sync(f, args.check, args.slow)
         for cmd in stale:
             bad += 1
             print(f"{f.relative_to(ROOT)}: {'stale' if args.check else 'updated'}: {cmd}")
