@@ -448,12 +448,21 @@ def _write_models(solver, points, out_dir, force):
     return written
 
 
-def _verify_points(solver, points):
-    reports = []
-    for p in points:
-        rep = solver.verify(p)
-        reports.append(rep)
+def _check_and_write(solver, points, do_verify, write_model, force):
+    """``--verify`` and ``--write-model`` for the returned pairs; returns the reports."""
+    reports = [solver.verify(p) for p in points] if do_verify else []
+    if write_model:
+        for path in _write_models(solver, points, write_model, force):
+            click.echo(f"; wrote {path}", err=True)
     return reports
+
+
+def _finish(fr, reports, verbose) -> None:
+    """Stats on stderr with ``-v``; exit 1 when a verification failed."""
+    if verbose:
+        click.echo(f"; stats {json.dumps(fr.stats)}", err=True)
+    if reports and not all(r.ok for r in reports):
+        sys.exit(1)
 
 
 def _status_line(fr) -> str:
@@ -496,10 +505,7 @@ def solve(
     t0 = time.perf_counter()
     sol = s.solve(a)
     elapsed = time.perf_counter() - t0
-    reports = _verify_points(s, [sol.chosen]) if do_verify else []
-    if write_model:
-        for path in _write_models(s, [sol.chosen], write_model, force):
-            click.echo(f"; wrote {path}", err=True)
+    reports = _check_and_write(s, [sol.chosen], do_verify, write_model, force)
     fr = sol.frontier
     if as_json:
         d = sol.to_dict()
@@ -519,10 +525,7 @@ def solve(
             click.echo("verify: " + ("passed" if rep.ok else "FAILED"))
             for line in rep.lines():
                 click.echo("  " + line)
-    if verbose:
-        click.echo(f"; stats {json.dumps(fr.stats)}", err=True)
-    if reports and not all(r.ok for r in reports):
-        sys.exit(1)
+    _finish(fr, reports, verbose)
 
 
 @main.command()
@@ -537,10 +540,7 @@ def frontier(
     s = _solver(task, engine, planner, hitting_set, timeout)
     _verbose_family(s, verbose)
     fr = s.frontier()
-    reports = _verify_points(s, fr.points) if do_verify else []
-    if write_model:
-        for path in _write_models(s, fr.points, write_model, force):
-            click.echo(f"; wrote {path}", err=True)
+    reports = _check_and_write(s, fr.points, do_verify, write_model, force)
     if as_json:
         d = fr.to_dict()
         if do_verify:
@@ -564,10 +564,7 @@ def frontier(
             click.echo(
                 f"lower bound on |E| for the next (cheaper) point: {fr.next_size_lower_bound}"
             )
-    if verbose:
-        click.echo(f"; stats {json.dumps(fr.stats)}", err=True)
-    if reports and not all(r.ok for r in reports):
-        sys.exit(1)
+    _finish(fr, reports, verbose)
 
 
 @main.command()
