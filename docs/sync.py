@@ -93,8 +93,11 @@ def sync(path: Path, check: bool, slow: bool = False) -> list[str]:
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--check", action="store_true", help="Fail on stale blocks; write nothing.")
-    ap.add_argument("--slow", action="store_true",
-                    help="Also run blocks marked '<!-- run (slow): ... -->' (minutes each).")
+    ap.add_argument(
+        "--slow",
+        action="store_true",
+        help="Also run blocks marked '<!-- run (slow): ... -->' (minutes each).",
+    )
     ap.add_argument("files", nargs="*", help="Markdown files (default: README, docs, domains).")
     args = ap.parse_args()
     targets = [Path(f).resolve() for f in args.files] or files(DEFAULT_FILES)
