@@ -179,6 +179,9 @@ class MegaSolver:
             sel = self.task.selection_from_names(explanation or [])
             rc = hc = None
         prod = producer or self.planner
+        from mega_sat.verify import checker_for
+
+        reuse = self.oracles if checker_for(prod) == "sat" else None
         return verify_pair(
             self.task,
             self.family,
@@ -188,6 +191,7 @@ class MegaSolver:
             robot_cost=rc,
             human_cost=hc,
             use_val=use_val,
+            oracles=reuse,
         )
 
 

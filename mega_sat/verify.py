@@ -65,8 +65,12 @@ def verify_pair(
     human_cost: int | None = None,
     use_val: bool = True,
     checker: str | None = None,
+    oracles=None,
 ) -> VerifyReport:
-    """Check one answer; ``robot_cost``/``human_cost``, when given, must match the simulation."""
+    """Check one answer; ``robot_cost``/``human_cost``, when given, must match the simulation.
+
+    ``oracles``: live SAT oracles of this task, reused when the checker is ``sat``.
+    """
     from mega_sat.node_planner import NodePlanner
 
     plan = tuple(tuple(s) for s in plan)
@@ -105,7 +109,7 @@ def verify_pair(
             )
         )
     kind = checker or checker_for(producer)
-    opt = NodePlanner(task, family, kind).optimal(frozenset(selection))
+    opt = NodePlanner(task, family, kind, oracles=oracles).optimal(frozenset(selection))
     if opt.status == "optimal":
         good = sim_h.valid and sim_h.cost == opt.cost
         detail = f"optimum of human + E by {kind}: {opt.cost}; plan: {sim_h.cost}"
