@@ -345,6 +345,10 @@ class SatOracles:
                 "zero-cost actions: plan length is not bounded by cost",
             )
         need = bound // self.c_min
+        return self._capped(need, bound)
+
+    def _capped(self, need: int, bound: int) -> tuple[int, bool, str]:
+        """``need`` steps, or the cap with the answer marked inexact."""
         if need > self.horizon_cap:
             return (
                 self.horizon_cap,
@@ -366,13 +370,7 @@ class SatOracles:
         if c <= 0 or self.c_min <= 0:
             return self._horizon(bound, at_least)
         need = max((bound - extra) // c, 0)
-        if need > self.horizon_cap:
-            return (
-                self.horizon_cap,
-                False,
-                f"horizon cap {self.horizon_cap} < {need} steps needed for cost <= {bound}",
-            )
-        return need, True, ""
+        return self._capped(need, bound)
 
     def _solve(self, solver: Solver, assumptions: list[int], budget: int | None = None):
         """One SAT call: ``True``/``False``, or ``None`` if ``budget`` conflicts ran out.
