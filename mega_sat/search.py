@@ -79,9 +79,16 @@ class RelaxedTask:
             for q in ad:
                 self.achievers[q].append(j)
 
-    def hmax(self, state: list[int], costs: list[int]) -> tuple[list[float], list[int]]:
+    def hmax(
+        self, state: list[int], costs: list[int], *, stop_at_goal: bool = False
+    ) -> tuple[list[float], list[int]]:
         """h^max of every atom from ``state`` and the precondition choice function (the
-        precondition reached last, i.e. one with maximal h^max; -1 if unreachable)."""
+        precondition reached last, i.e. one with maximal h^max; -1 if unreachable).
+
+        ``stop_at_goal`` stops once the goal's value is final: enough for the value, but the
+        choice function is then partial, and LM-cut needs it for *every* reachable action (an
+        action left out of the justification graph would be missing from its cut, which would
+        then not be a landmark and the heuristic not admissible)."""
         h: list[float] = [_INF] * self.n_atoms
         done = [False] * self.n_atoms
         left = self.n_pre[:]
@@ -98,7 +105,7 @@ class RelaxedTask:
             if done[p]:
                 continue
             done[p] = True
-            if p == goal:
+            if p == goal and stop_at_goal:
                 break
             for j in pre_of[p]:
                 left[j] -= 1
@@ -112,7 +119,7 @@ class RelaxedTask:
         return h, pcf
 
     def h_max(self, state: list[int]) -> float:
-        return self.hmax(state, self.costs)[0][self.goal_atom]
+        return self.hmax(state, self.costs, stop_at_goal=True)[0][self.goal_atom]
 
     def lmcut(self, state: list[int]) -> float:
         """LM-cut: repeatedly find a cut between the initial atoms and the zero-cost goal zone

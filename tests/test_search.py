@@ -202,3 +202,27 @@ def token_tasks(draw) -> GroundTask:
 def test_astar_on_larger_state_spaces(gt):
     """Bigger spaces exercise reopening (LM-cut is not consistent) and the successor groups."""
     check_all_heuristics(gt)
+
+
+def test_lmcut_admissible_on_a_shipped_family():
+    """Regression: LM-cut once stopped h^max at the goal, leaving the justification graph
+    partial, so its cuts were not landmarks (12 > 8 on usar-fetch Delta 10/p1 with E = {2, 5}).
+    Checked against uniform-cost search on 64 models of that family."""
+    import itertools
+    from pathlib import Path
+
+    from mega_sat.loading import load_task, resolve_task_dir
+
+    root = Path(__file__).resolve().parent.parent / "domains" / "usar-fetch" / "delta" / "10" / "p1"
+    task = load_task(**{k: str(v) for k, v in resolve_task_dir(root).items()})
+    fam = ground(task)
+    sels = [frozenset({2, 5})]
+    sels += [frozenset(c) for c in itertools.combinations(range(fam.n_updates), 3)][::2][:63]
+    for sel in sels:
+        gt = fam.specialize(sel)
+        r = astar(gt, heuristic="blind")
+        h = RelaxedTask(gt).lmcut(sorted(gt.init))
+        if r.status == "optimal":
+            assert h <= r.cost, (sorted(sel), h, r.cost)
+        else:
+            assert r.status == "unsolvable"
