@@ -380,6 +380,8 @@ class SatOracles:
         interrupted call raises :class:`OracleInterrupted` and proves nothing.
         """
         self._check_interrupt()
+        if budget is not None and budget <= 0:
+            return None
         self.stats["sat_solver_calls"] += 1
         left = budget
         while True:
@@ -528,6 +530,7 @@ class SatOracles:
         hints: Iterable[Sequence[PlanStep]] = (),
         robot_lower_bound: int | None = None,
         human_lower_bound: int | None = None,
+        conflict_budget: int | None = None,
     ) -> JointResult:
         """Cheapest robot plan valid in the robot model (robot cost <= ``robot_bound``, None =
         unbounded) and in ``human + selection`` with human cost <= ``human_bound``; or a
@@ -544,6 +547,9 @@ class SatOracles:
         * ``human_lower_bound``: a *proven* lower bound on every plan of ``human + selection``
           (its optimum ``c*``).  When no action costs the robot less than it costs the human
           in this selection, every joint plan has robot cost >= human cost >= this bound.
+
+        ``conflict_budget`` caps each SAT call; when it runs out the result has status
+        ``unknown`` (nothing proven; ``plan`` is the best witness found so far, if any).
         """
         sel = frozenset(selection)
         lits = [(i, i in sel) for i in range(self.family.n_updates)]
@@ -558,6 +564,7 @@ class SatOracles:
             hints=hints,
             robot_lower_bound=robot_lower_bound,
             plan_lower_bound=plan_lb,
+            conflict_budget=conflict_budget,
         )
 
     def joint_lits(
@@ -606,6 +613,7 @@ class SatOracles:
         hints: Iterable[Sequence[PlanStep]] = (),
         robot_lower_bound: int | None = None,
         plan_lower_bound: int = 0,
+        conflict_budget: int | None = None,
     ) -> JointResult:
         t0 = time.perf_counter()
         enc, solver = self.joint_enc, self._joint_solver
@@ -623,7 +631,7 @@ class SatOracles:
                 hc,
                 core,
                 sel,
-                exact or bool(why),
+                (exact or bool(why)) and status != "unknown",
                 why or reason or "proven by SAT",
                 h,
                 calls,
@@ -649,7 +657,10 @@ class SatOracles:
                 + enc.goal_assumptions(h)
             )
             calls += 1
-            if not self._solve(solver, base + sel_lits):
+            ok = self._solve(solver, base + sel_lits, budget=conflict_budget)
+            if ok is None:
+                return done("unknown", why=f"conflict budget {conflict_budget} ran out")
+            if not ok:
                 core = self._minimize_core(base, sel_lits, solver.get_core() or [])
                 calls += self._last_core_calls
                 return done("infeasible", core=core)
@@ -675,7 +686,17 @@ class SatOracles:
                 + enc.cost_assumptions(ROBOT, rc - 1, h2)
                 + enc.goal_assumptions(h2)
                 + sel_lits,
+                budget=conflict_budget,
             )
+            if ok is None:
+                return done(
+                    "unknown",
+                    plan,
+                    rc,
+                    hc,
+                    sel=sel,
+                    why=f"conflict budget {conflict_budget} ran out",
+                )
             if not ok:
                 return done("plan", plan, rc, hc, sel=sel)
             h = h2

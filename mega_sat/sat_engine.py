@@ -22,9 +22,11 @@ import time
 
 from mega_sat.family import GroundFamily
 from mega_sat.hitting_set import make_hitting_set
+from mega_sat.joint_search import JointSearcher, search_joint
 from mega_sat.results import Frontier, FrontierPoint, pareto_filter
 from mega_sat.support import exclusion_clause, tight_support, unsolvable_core
 from mega_sat.task import TwoModelTask
+from mega_sat.tiered_opt import TieredOpt
 
 
 def sat_frontier(
@@ -36,14 +38,29 @@ def sat_frontier(
     hitting_set: str = "rc2",
     solver: str = "cadical195",
     timeout: float | None = None,
+    joint: str = "portfolio",
+    joint_conflict_budget: int = 20_000,
+    core_search_factor: float = 3.0,
 ) -> Frontier:
     """Compute the Pareto frontier of MEGA solutions with the hitting-set loop.
 
     ``planner`` answers OPT (the optimal cost of a candidate model): ``builtin`` (explicit
     A* with LM-cut, exact by admissibility; falls back to the SAT OPT oracle if it gives up),
-    ``sat`` (the SAT OPT oracle, exact by the horizon argument) or ``fd``.  JOINT, the check
-    that gives cores, is always the SAT encoding.
+    ``sat`` (the SAT OPT oracle, exact by the horizon argument) or ``fd``.
+
+    ``joint`` answers JOINT, the check that gives cores: ``sat`` (the SAT oracle alone),
+    ``search`` (the explicit product search of :mod:`mega_sat.joint_search`, whose cores are
+    proven on abstractions) or ``portfolio`` (the SAT oracle with ``joint_conflict_budget``
+    conflicts per call, then the search if it is undecided).  All three are exact.
+
+    OPT goes through :class:`mega_sat.tiered_opt.TieredOpt` (cheap proofs first, ``planner``
+    last).  ``core_search_factor``: unsolvable candidate models are generalised by searches on
+    abstractions for up to this many times the time OPT took to prove them unsolvable.
     """
+    if joint not in JOINT_METHODS:
+        from mega_sat.errors import UsageError
+
+        raise UsageError(f"unknown JOINT method {joint!r} (choose from {', '.join(JOINT_METHODS)})")
     from mega_sat.node_planner import NodePlanner
     from mega_sat.oracles import OracleInterrupted, SatOracles
 
@@ -53,11 +70,12 @@ def sat_frontier(
     if deadline is not None and hasattr(orc, "set_deadline"):
         orc.set_deadline(deadline)  # interrupts a SAT call still running at the deadline
     opt_planner = NodePlanner(task, family, planner, oracles=orc)
+    tiered = TieredOpt(family, opt_planner)
     notes: list[str] = []
     exact = True
 
     def opt_of(sel):
-        r = opt_planner.optimal(sel)
+        r = tiered.optimal(sel)
         if r.status == "unknown" and planner != "sat":
             r = NodePlanner(task, family, "sat", oracles=orc).optimal(sel)
         return r
@@ -87,7 +105,14 @@ def sat_frontier(
         "learned": 0,
         "learned_literals": 0,
         "unsolvable_models": 0,
+        "joint_searches": 0,
     }
+    _searcher = []
+
+    def searcher() -> JointSearcher:
+        if not _searcher:
+            _searcher.append(JointSearcher(family.specialize(family.robot_selection)))
+        return _searcher[0]
 
     def time_out():
         nonlocal lower_bound, complete
@@ -125,7 +150,9 @@ def sat_frontier(
                 on = None
                 if opt.status == "unsolvable":
                     stats["unsolvable_models"] += 1
-                    on = unsolvable_core(family, sel)
+                    on = unsolvable_core(
+                        family, sel, search_seconds=max(0.05, core_search_factor * opt.time_s)
+                    )
                 else:
                     exact = False
                     notes.append(f"OPT undecided for a model with |E|={len(sel)}: {opt.reason}")
@@ -141,14 +168,33 @@ def sat_frontier(
             try:
                 # pi* is a witness if the robot can run it within K; c_robot and (when costs
                 # allow) c* are proven lower bounds that spare the final UNSAT call
-                res = orc.joint(
-                    sel,
-                    bound,
-                    opt.cost,
-                    hints=(opt.plan,),
-                    robot_lower_bound=robot_lb,
-                    human_lower_bound=opt.cost if opt.exact else None,
+                res = (
+                    _UNDECIDED
+                    if joint == "search"
+                    else orc.joint(
+                        sel,
+                        bound,
+                        opt.cost,
+                        hints=(opt.plan,),
+                        robot_lower_bound=robot_lb,
+                        human_lower_bound=opt.cost if opt.exact else None,
+                        conflict_budget=joint_conflict_budget if joint == "portfolio" else None,
+                    )
                 )
+                ts = tight_support(family, sel, opt.plan)
+                if res.status == "unknown":
+                    stats["joint_searches"] += 1
+                    res = search_joint(
+                        searcher(),
+                        family,
+                        sel,
+                        bound,
+                        opt.cost,
+                        keep=frozenset(i for i, _ in ts),
+                        deadline=deadline,
+                    )
+                    if res is None:
+                        raise OracleInterrupted
             except OracleInterrupted:
                 time_out()
                 break
@@ -167,7 +213,7 @@ def sat_frontier(
                     break
                 bound = res.robot_cost - 1
                 continue
-            on = {i for i, _ in res.core} | {i for i, _ in tight_support(family, sel, opt.plan)}
+            on = {i for i, _ in res.core} | {i for i, _ in ts}
             _learn(hs, exclusion_clause(sel, on), stats)
     finally:
         hs.close()
@@ -187,12 +233,24 @@ def sat_frontier(
         stats={
             **stats,
             "opt_planner": planner,
-            "opt_time_s": round(opt_planner.time_s, 6),
+            "opt_time_s": round(tiered.time_s, 6),
+            "opt_planner_time_s": round(opt_planner.time_s, 6),
+            **tiered.stats,
             "hitting_set": hitting_set,
             "hitting_set_calls": hs.calls,
             **getattr(orc, "stats", {}),
         },
     )
+
+
+JOINT_METHODS = ("portfolio", "sat", "search")
+
+
+class _Undecided:
+    status = "unknown"
+
+
+_UNDECIDED = _Undecided()
 
 
 def _learn(hs, clause, stats) -> None:

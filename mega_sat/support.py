@@ -68,18 +68,56 @@ def _relaxed_goal_reachable(
     return all(p in reached for p, g in family.goal if present(g, False))
 
 
-def unsolvable_core(family: GroundFamily, selection: frozenset[int]) -> frozenset[int] | None:
+def unsolvable_core(
+    family: GroundFamily,
+    selection: frozenset[int],
+    *,
+    search_seconds: float = 0.0,
+    node_limit: int = 2_000,
+) -> frozenset[int] | None:
     """A set ``S`` of updates such that every selection agreeing with ``selection`` on ``S`` has
-    a relaxed-unreachable goal (so no plan); ``None`` when relaxed reachability cannot show
-    ``human + selection`` unsolvable.  Found by deletion from all updates."""
-    fixed = frozenset(range(family.n_updates))
-    if _relaxed_goal_reachable(family, selection, fixed):
-        return None
-    for i in sorted(fixed):
+    no plan, for an unsolvable ``human + selection``; ``None`` when nothing smaller than "all
+    updates" can be shown.
+
+    Deletion from all updates: an update is dropped when the model stays unsolvable with it
+    free.  Three proofs are tried: relaxed reachability of the most permissive model and h^2
+    pair reachability of the abstraction with the update free (both cheap), then an exhaustive
+    search of the abstraction with the update free
+    (:func:`mega_sat.abstraction.abstract_task`), of at most ``node_limit`` expansions each and
+    ``search_seconds`` in all; a search cut short proves nothing and keeps the update.
+    """
+    import time
+
+    from mega_sat.abstraction import abstract_task
+    from mega_sat.pair_reachability import goal_pair_unreachable
+    from mega_sat.search import astar
+
+    everything = frozenset(range(family.n_updates))
+    deadline = time.perf_counter() + search_seconds
+
+    def unsolvable(fixed: frozenset[int]) -> bool:
+        if not _relaxed_goal_reachable(family, selection, fixed):
+            return True
+        abstraction = abstract_task(family, selection, fixed)
+        if goal_pair_unreachable(abstraction):
+            return True
+        left = deadline - time.perf_counter()
+        if left <= 0:
+            return False
+        r = astar(
+            abstraction,
+            heuristic="blind",
+            time_limit=left,
+            node_limit=node_limit,
+        )
+        return r.status == "unsolvable"
+
+    fixed = everything
+    for i in sorted(everything):
         trial = fixed - {i}
-        if not _relaxed_goal_reachable(family, selection, trial):
+        if unsolvable(trial):
             fixed = trial
-    return fixed
+    return None if fixed == everything else fixed
 
 
 def tight_support(

@@ -1,0 +1,111 @@
+"""Abstractions, h^2 pair reachability, explicit JOINT with cores and the tiered OPT, each
+against explicit-state ground truth on random families (tests/sat_families.py)."""
+
+from __future__ import annotations
+
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from sat_families import agreeing, dijkstra, families, joint_brute, plan_cost, selections
+
+from mega_sat.abstraction import abstract_task
+from mega_sat.family import GroundFamily
+from mega_sat.joint_search import JointSearcher, search_joint
+from mega_sat.node_planner import NodePlanner
+from mega_sat.pair_reachability import goal_pair_unreachable
+from mega_sat.search import astar
+from mega_sat.tiered_opt import TieredOpt
+
+SETTINGS = settings(
+    max_examples=150, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck)
+)
+
+
+def _fixed_sets(n: int):
+    return st.frozensets(st.integers(0, n - 1), max_size=n) if n else st.just(frozenset())
+
+
+@SETTINGS
+@given(fam=families(), data=st.data())
+def test_full_abstraction_is_the_model_and_partial_ones_over_approximate(fam: GroundFamily, data):
+    sel = data.draw(selections(fam.n_updates))
+    exact = abstract_task(fam, sel, range(fam.n_updates))
+    assert not any(a.negpre for a in exact.actions)
+    # with every update fixed: same optimum as the concrete model
+    assert dijkstra(exact) == dijkstra(fam.specialize(sel))
+    fixed = data.draw(_fixed_sets(fam.n_updates))
+    abst = abstract_task(fam, sel, fixed)
+    best_abs = dijkstra(abst)
+    for other in agreeing([(i, i in sel) for i in fixed], fam.n_updates):
+        task = fam.specialize(other)
+        c = dijkstra(task)
+        if c is None:
+            continue
+        # every plan of an agreeing model runs in the abstraction, at no higher cost
+        r = astar(task, heuristic="blind")
+        ac = plan_cost(abst, r.plan)
+        assert ac is not None and ac <= c
+        assert best_abs is not None and best_abs <= c
+
+
+@SETTINGS
+@given(fam=families(), data=st.data())
+def test_pair_reachability_never_refutes_a_solvable_model(fam: GroundFamily, data):
+    sel = data.draw(selections(fam.n_updates))
+    fixed = data.draw(_fixed_sets(fam.n_updates))
+    if goal_pair_unreachable(abstract_task(fam, sel, fixed)):
+        for other in agreeing([(i, i in sel) for i in fixed], fam.n_updates):
+            assert dijkstra(fam.specialize(other)) is None
+
+
+def test_pair_reachability_sees_what_relaxation_cannot():
+    # one token moved between two places: the goal "at both" is relaxed-reachable only
+    from mega_sat.family import GroundAction
+
+    move = GroundAction("move", ("a", "b"), None, ((0, None),), (), ((1, None),), ((0, None),),
+                        (((), 1),))  # fmt: skip
+    back = GroundAction("move", ("b", "a"), None, ((1, None),), (), ((0, None),), ((1, None),),
+                        (((), 1),))  # fmt: skip
+    fam = GroundFamily((("at", "a"), ("at", "b")), 0, (move, back), ((0, None),),
+                       ((0, None), (1, None)))  # fmt: skip
+    task = abstract_task(fam, frozenset(), [])
+    assert astar(task, heuristic="hmax").status == "unsolvable"
+    assert goal_pair_unreachable(task)
+
+
+@SETTINGS
+@given(fam=families(max_atoms=3, max_actions=5, max_updates=4), data=st.data())
+def test_search_joint_matches_paired_search_and_cores_are_sound(fam: GroundFamily, data):
+    robot = fam.specialize(fam.robot_selection)
+    searcher = JointSearcher(robot)
+    for _ in range(2):
+        sel = data.draw(selections(fam.n_updates))
+        hb = data.draw(st.integers(0, 7))
+        rb = data.draw(st.one_of(st.none(), st.integers(0, 7)))
+        keep = data.draw(_fixed_sets(fam.n_updates))
+        r = search_joint(searcher, fam, sel, rb, hb, keep=keep)
+        best = joint_brute(fam, sel, rb, hb)
+        if best is None:
+            assert r.status == "infeasible" and r.core is not None
+            assert all(v == (i in sel) for i, v in r.core)
+            assert {i for i, _ in r.core} >= keep
+            for other in agreeing(r.core, fam.n_updates):
+                assert joint_brute(fam, other, rb, hb) is None
+        else:
+            assert r.status == "plan" and r.robot_cost == best
+            assert plan_cost(robot, r.plan) == r.robot_cost
+            assert plan_cost(fam.specialize(sel), r.plan) == r.human_cost <= hb
+
+
+@SETTINGS
+@given(fam=families(), data=st.data())
+def test_tiered_opt_gives_the_optimal_cost(fam: GroundFamily, data):
+    tiers = TieredOpt(fam, NodePlanner(None, fam, "builtin"))
+    for _ in range(3):
+        sel = data.draw(selections(fam.n_updates))
+        r = tiers.optimal(sel)
+        task = fam.specialize(sel)
+        c = dijkstra(task)
+        if c is None:
+            assert r.status == "unsolvable"
+        else:
+            assert r.status == "optimal" and r.cost == c and plan_cost(task, r.plan) == c
