@@ -81,13 +81,19 @@ class JointSearcher:
         node_limit: int | None = None,
         deadline: float | None = None,
         human_heuristic: str = "hmax",
+        heuristic_task: GroundTask | None = None,
+        track: CoreTracker | None = None,
     ) -> JointSearchResult:
         """Cheapest-robot-cost joint plan with robot cost <= ``robot_bound`` (None: no bound)
-        and human cost <= ``human_bound``; see the module docstring."""
+        and human cost <= ``human_bound``; see the module docstring.
+
+        ``heuristic_task``: compute the human heuristic on this task instead (an abstraction
+        of ``human``, so the pruning stays valid for every model it covers).  ``track``
+        records which updates the search's decisions depended on (:class:`CoreTracker`)."""
         r_masks = self._r_masks
         r_goal = self._r_goal
         h_goal = sum(1 << p for p in human.goal)
-        h_relaxed = RelaxedTask(human)
+        h_relaxed = RelaxedTask(heuristic_task if heuristic_task is not None else human)
         h_fn = h_relaxed.lmcut if human_heuristic == "lmcut" else h_relaxed.h_max
         h_cache: dict[int, float] = {}
 
@@ -144,9 +150,17 @@ class JointSearcher:
             if deadline is not None and expanded % 64 == 0 and time.perf_counter() > deadline:
                 return JointSearchResult("limit", None, None, None, expanded)
             expanded += 1
+            if track is not None:
+                track.expanded(sr)
             for j, pre, neg, keep, add, ch, rpre, rneg, rkeep, radd, cr in h_acts:
-                if sh & pre != pre or sh & neg or sr & rpre != rpre or sr & rneg:
+                if sr & rpre != rpre or sr & rneg:
                     continue
+                if sh & pre != pre or sh & neg:
+                    if track is not None:
+                        track.failed(j, sh)
+                    continue
+                if track is not None:
+                    track.applied(j)
                 gh2 = gh + ch
                 gr2 = gr + cr
                 if gh2 > human_bound or gr2 > k_bound:
@@ -171,6 +185,69 @@ class JointSearcher:
                 counter += 1
                 heapq.heappush(heap, (gr2 + hr, hr, counter, gr2, gh2, key2))
         return JointSearchResult("none", None, None, None, expanded)
+
+
+class CoreTracker:
+    """The updates a paired-state search in ``human + E`` (two-fact form) depended on.
+
+    After an exhausted search, ``used`` plus the updates the human heuristic's abstraction
+    fixed is a core: every ``E'`` agreeing with ``E`` on it has, from every state the search
+    expanded, only transitions that ``E`` has too, with the same successors and costs, the
+    same initial state and no extra goal states, so an ``E'`` joint plan within the bounds
+    would have been found (argument in ``encodings/hitting-set.md``).  Recorded:
+
+    * guarded initial-state entries, and guarded goal entries present in ``E`` (removing a
+      goal could create goal states); goal entries absent in ``E`` only restrict;
+    * an action absent in ``E`` whose robot side is applicable in an expanded state: its
+      existence guard (adding the action could add transitions);
+    * an action applicable for the robot but not for the human: the guards of its present
+      preconditions that failed (dropping one could enable it); absent ones only restrict;
+    * an applied action: the guards of all its effects and cost cases.
+    """
+
+    def __init__(self, family, selection: frozenset[int], robot_masks) -> None:
+        from mega_sat.family import holds
+
+        n = len(family.atoms)
+        sel = frozenset(selection)
+        self.used: set[int] = {g[0] for _, g in family.init if g}
+        self.used.update(g[0] for _, g in family.goal if g and holds(g, sel))
+        self._fail: dict[int, list[tuple[int, int]]] = {}
+        self._effects: dict[int, set[int]] = {}
+        self._absent: list[tuple[int, int, int]] = []
+        for j, a in enumerate(family.actions):
+            rm = robot_masks.get(j)
+            if rm is None:
+                continue
+            if not holds(a.exists, sel):
+                self._absent.append((rm[0], rm[1], a.exists[0]))
+                continue
+            fail = [(1 << p, g[0]) for p, g in a.pre if g and holds(g, sel)]
+            fail += [(1 << (n + p), g[0]) for p, g in a.negpre if g and holds(g, sel)]
+            self._fail[j] = fail
+            eff = {g[0] for _, g in a.add + a.delete if g}
+            eff.update(i for guards, _ in a.cost for i, _ in guards)
+            self._effects[j] = eff
+
+    def expanded(self, sr: int) -> None:
+        if self._absent:
+            rest = []
+            for pre, neg, i in self._absent:
+                if sr & pre == pre and not sr & neg:
+                    self.used.add(i)
+                else:
+                    rest.append((pre, neg, i))
+            self._absent = rest
+
+    def failed(self, j: int, sh: int) -> None:
+        for bit, i in self._fail[j]:
+            if not sh & bit:
+                self.used.add(i)
+
+    def applied(self, j: int) -> None:
+        eff = self._effects.pop(j, None)
+        if eff:
+            self.used.update(eff)
 
 
 def infeasibility_core(
@@ -229,18 +306,22 @@ def search_joint(
 ):
     """JOINT(E, K, c) by explicit search, as a :class:`mega_sat.oracles.JointResult`.
 
-    A plan is robot-cost minimal by A*; "none" comes with a core of updates found by
-    :func:`infeasibility_core` (``keep``: updates the caller fixes anyway, e.g. the tight
-    support of ``pi*``), each of its searches limited to ``core_factor`` times the nodes the
-    concrete search needed.  Returns ``None`` when ``deadline`` passed before an answer.
+    A plan is robot-cost minimal by A*.  "None" comes with a core: the updates the search
+    depended on (:class:`CoreTracker`) plus ``keep`` (updates the caller fixes anyway, e.g.
+    the tight support of ``pi*``), confirmed by a second search whose heuristic is computed on
+    the abstraction fixing just those; if that one runs past ``core_factor`` times the nodes of
+    the first, by :func:`infeasibility_core`.  Returns ``None`` when ``deadline`` passed before
+    an answer.
     """
     from mega_sat.abstraction import abstract_task
     from mega_sat.oracles import JointResult
 
     t0 = time.perf_counter()
     sel = frozenset(selection)
-    human = abstract_task(family, sel, range(family.n_updates))
-    r = searcher.search(human, robot_bound, human_bound, deadline=deadline)
+    everything = frozenset(range(family.n_updates))
+    human = abstract_task(family, sel, everything)
+    track = CoreTracker(family, sel, searcher._r_masks)
+    r = searcher.search(human, robot_bound, human_bound, deadline=deadline, track=track)
     if r.status == "limit":
         return None
     if r.status == "plan":
@@ -248,17 +329,35 @@ def search_joint(
             "plan", r.plan, r.robot_cost, r.human_cost, None, sel, True,
             "proven by explicit search", 0, 1, time.perf_counter() - t0,
         )  # fmt: skip
-    core = infeasibility_core(
-        searcher,
-        family,
-        sel,
-        frozenset(keep),
-        robot_bound,
-        human_bound,
-        node_limit=max(500, int(core_factor * r.expanded)),
-        deadline=deadline,
-    )
+    # the search above pruned with the heuristic of human + E itself, valid for E alone; redo
+    # it with the heuristic of the abstraction fixing only what it depended on, which stays
+    # valid for every E' agreeing on the core
+    fixed = frozenset(keep) | track.used
+    if fixed != everything:
+        track2 = CoreTracker(family, sel, searcher._r_masks)
+        r2 = searcher.search(
+            human,
+            robot_bound,
+            human_bound,
+            node_limit=max(500, int(core_factor * r.expanded)),
+            deadline=deadline,
+            heuristic_task=abstract_task(family, sel, fixed),
+            track=track2,
+        )
+        if r2.status == "none":
+            fixed |= track2.used
+        else:  # cut short: fall back to deletion, each search on an abstraction
+            fixed = infeasibility_core(
+                searcher,
+                family,
+                sel,
+                frozenset(keep),
+                robot_bound,
+                human_bound,
+                node_limit=max(500, int(core_factor * r.expanded)),
+                deadline=deadline,
+            )
     return JointResult(
-        "infeasible", None, None, None, frozenset((i, i in sel) for i in core), sel, True,
+        "infeasible", None, None, None, frozenset((i, i in sel) for i in fixed), sel, True,
         "proven by explicit search", 0, 1, time.perf_counter() - t0,
     )  # fmt: skip
