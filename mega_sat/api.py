@@ -56,8 +56,10 @@ class MegaSolver:
 
     ``engine``: ``sat`` (hitting-set loop, exact) or ``astar`` (the paper's Algorithm 1).
     ``planner``: the optimal planner called on candidate models (``builtin``, ``sat``, ``fd``):
-    the per-node planner of ``astar``, the OPT oracle of ``sat``, and MCE's.  The ``sat``
-    engine's JOINT check is always the SAT encoding.  ``hitting_set``: ``rc2`` or ``ilp``.
+    the per-node planner of ``astar``, the OPT oracle of ``sat`` (after its cheaper proofs),
+    and MCE's.  ``joint``: how the ``sat`` engine answers JOINT: ``portfolio`` (SAT with a
+    conflict budget, then explicit paired-state search), ``sat`` or ``search``; all exact.
+    ``hitting_set``: ``rc2`` or ``ilp``.
     """
 
     def __init__(
@@ -69,6 +71,7 @@ class MegaSolver:
         hitting_set: str = "rc2",
         solver: str = "cadical195",
         timeout: float | None = None,
+        joint: str = "portfolio",
     ):
         if engine not in ENGINES:
             raise UsageError(f"unknown engine {engine!r} (choose from {', '.join(ENGINES)})")
@@ -76,6 +79,13 @@ class MegaSolver:
             raise UsageError(f"unknown hitting-set solver {hitting_set!r} (choose rc2 or ilp)")
         if timeout is not None and not timeout > 0:
             raise UsageError(f"timeout must be > 0 seconds, got {timeout!r}")
+        from mega_sat.sat_engine import JOINT_METHODS
+
+        if joint not in JOINT_METHODS:
+            raise UsageError(
+                f"unknown JOINT method {joint!r} (choose from {', '.join(JOINT_METHODS)})"
+            )
+        self.joint = joint
         self.task = task
         self.engine = engine
         self.planner = planner or "builtin"
@@ -112,6 +122,7 @@ class MegaSolver:
                     planner=self.planner,
                     hitting_set=self.hitting_set,
                     timeout=self.timeout,
+                    joint=self.joint,
                 )
             else:
                 from mega_sat.astar_engine import astar_frontier

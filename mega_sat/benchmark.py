@@ -145,13 +145,15 @@ def _domain_dirs(root: Path) -> list[Path]:
     return sorted(d for d in root.iterdir() if (d / "robot-domain.pddl").is_file())
 
 
-def _matches(domain: str, problem: str, only: Sequence[str]) -> bool:
-    """``--only`` patterns (fnmatch) match the domain name or ``domain/problem``."""
+def _matches(domain: str, problem: str, only: Sequence[str], delta: int | None = None) -> bool:
+    """``--only`` patterns (fnmatch) match the domain name, ``domain/problem`` or, for a
+    generated instance, ``domain/delta/K/problem``."""
     if not only:
         return True
-    return any(
-        fnmatch.fnmatch(domain, o) or fnmatch.fnmatch(f"{domain}/{problem}", o) for o in only
-    )
+    names = [domain, f"{domain}/{problem}"]
+    if delta is not None:
+        names.append(f"{domain}/delta/{delta}/{problem}")
+    return any(fnmatch.fnmatch(n, o) for n in names for o in only)
 
 
 def discover(root: Path, suite: str, only: Sequence[str] = ()) -> list[Instance]:
@@ -169,7 +171,7 @@ def discover(root: Path, suite: str, only: Sequence[str] = ()) -> list[Instance]
             if not kd.is_dir():
                 continue
             for p in sorted(p for p in kd.iterdir() if _is_task_dir(p)):
-                if _matches(d.name, p.name, only):
+                if _matches(d.name, p.name, only, k):
                     out.append(Instance(suite, d.name, p.name, k, str(p)))
     if suite == "smoke":
         want = [i for i in out if (i.domain, i.problem) == SMOKE_INSTANCE]
@@ -187,7 +189,7 @@ def expected_but_missing(root: Path, suite: str, only: Sequence[str] = ()) -> li
         for p in sorted(p for p in d.iterdir() if _is_task_dir(p)):
             for k in deltas:
                 target = d / "delta" / str(k) / p.name
-                if _matches(d.name, p.name, only) and not _is_task_dir(target):
+                if _matches(d.name, p.name, only, k) and not _is_task_dir(target):
                     missing.append(Instance(suite, d.name, p.name, k, str(target)))
     return missing
 
@@ -824,7 +826,8 @@ def render_markdown(
     if planners:
         parts.append(
             f"Optimal planner on candidate models: {', '.join(planners)} for both engines "
-            "(A*: per node; sat: OPT, with JOINT always the SAT encoding)."
+            "(A*: per node; sat: OPT, after its cheaper proofs; JOINT by SAT, then explicit "
+            "search)."
         )
     parts.append("")
     if "paper" in suites:
@@ -1117,7 +1120,8 @@ def run_bench(
 @click.option(
     "--only",
     multiple=True,
-    help="Keep domains / domain/problem matching this pattern (repeatable).",
+    help="Keep domains, domain/problem or domain/delta/K/problem matching this "
+    "pattern (repeatable).",
 )
 @click.option(
     "--time-limit",

@@ -366,7 +366,15 @@ def engine_options(fn):
             default="builtin",
             show_default=True,
             help="Optimal planner for candidate models: per-node planner of astar, "
-            "OPT oracle of sat (JOINT is always SAT).",
+            "OPT oracle of sat.",
+        ),
+        click.option(
+            "--joint",
+            type=click.Choice(["portfolio", "sat", "search"]),
+            default="portfolio",
+            show_default=True,
+            help="How the sat engine answers JOINT: SAT with a conflict budget then "
+            "explicit search, SAT only, or search only (all exact).",
         ),
         click.option("--hitting-set", type=HITTING, default="rc2", show_default=True),
         click.option(
@@ -392,11 +400,16 @@ def engine_options(fn):
     return fn
 
 
-def _solver(task, engine, planner, hitting_set, timeout):
+def _solver(task, engine, planner, hitting_set, timeout, joint="portfolio"):
     from mega_sat.api import MegaSolver
 
     return MegaSolver(
-        task, engine=engine, planner=planner, hitting_set=hitting_set, timeout=timeout
+        task,
+        engine=engine,
+        planner=planner,
+        hitting_set=hitting_set,
+        timeout=timeout,
+        joint=joint,
     )
 
 
@@ -485,6 +498,7 @@ def solve(
     alpha,
     engine,
     planner,
+    joint,
     hitting_set,
     timeout,
     as_json,
@@ -500,7 +514,7 @@ def solve(
     except ValueError:
         raise UsageError(f"--alpha must be a number >= 0, got '{alpha}'") from None
     task = _task_from(kw)
-    s = _solver(task, engine, planner, hitting_set, timeout)
+    s = _solver(task, engine, planner, hitting_set, timeout, joint)
     _verbose_family(s, verbose)
     t0 = time.perf_counter()
     sol = s.solve(a)
@@ -533,11 +547,21 @@ def solve(
 @engine_options
 @_friendly
 def frontier(
-    engine, planner, hitting_set, timeout, as_json, do_verify, write_model, force, verbose, **kw
+    engine,
+    planner,
+    joint,
+    hitting_set,
+    timeout,
+    as_json,
+    do_verify,
+    write_model,
+    force,
+    verbose,
+    **kw,
 ):
     """All Pareto-optimal (|E|, robot cost) pairs: one run answers every alpha."""
     task = _task_from(kw)
-    s = _solver(task, engine, planner, hitting_set, timeout)
+    s = _solver(task, engine, planner, hitting_set, timeout, joint)
     _verbose_family(s, verbose)
     fr = s.frontier()
     reports = _check_and_write(s, fr.points, do_verify, write_model, force)

@@ -105,6 +105,16 @@ def test_frontier_both_engines_agree():
     assert ast["exact"] is False and ast["stats"]["nodes_expanded"] >= 1
 
 
+@pytest.mark.parametrize("joint", ["sat", "search"])
+def test_frontier_joint_methods_agree(joint):
+    res = run("frontier", "--task", USAR, "--json", "--joint", joint)
+    d = json.loads(res.output)
+    assert res.exit_code == 0 and d["exact"] is True
+    assert [(len(p["explanation"]), p["robot_cost"]) for p in d["frontier"]] == [(1, 8), (3, 4)]
+    searched = d["stats"]["joint_searches"]
+    assert searched == (0 if joint == "sat" else d["stats"]["joint_calls"])
+
+
 def test_write_model_and_verify_files(tmp_path):
     out = tmp_path / "models"
     res = run("solve", "--task", USAR, "--alpha", "0.1", "--write-model", out)
