@@ -37,8 +37,11 @@ folder if it has them, else from ``<domain>/``.
 ``--json FILE`` (implies ``--frontier``) writes the results as JSON, atomically, after every
 instance; it refuses to overwrite an existing FILE unless ``--force``.  It also replays each
 frontier witness plan with VAL in the robot model and in the human model + E and records any
-disagreement with FD under ``"warnings"``.  An instance that fails (FD error, ``--timeout``
-seconds exceeded) is recorded as ``{"error": ...}`` and the run goes on (exit status 1).
+disagreement with FD under ``"warnings"``.  Each instance's ``"human_optimum"`` lists c*(E)
+(FD's human optimum in the human model + E; ``null`` if unsolvable) for all 2^|Delta|
+explanations E, ordered by |E| and then by the order of ``"delta"`` (E's names in that order
+too).  An instance that fails (FD error, ``--timeout`` seconds exceeded) is recorded as
+``{"error": ...}`` and the run goes on (exit status 1).
 
 Environment: FD_PY (python running fast-downward.py), FD (path of
 fast-downward.py), VAL (path of Validate).  Defaults: this interpreter and the files
@@ -659,6 +662,7 @@ def check(rel, do_frontier, alphas, verbose=False, val_witnesses=False):
     if not do_frontier:
         return entry
     res = {}
+    optima = []  # c*(E) for every E, by |E| then Delta index order (as enumerated)
     with tempfile.TemporaryDirectory() as tmp:
         df, pf_ = os.path.join(tmp, "hd.pddl"), os.path.join(tmp, "hp.pddl")
         for k in range(len(D) + 1):
@@ -667,6 +671,7 @@ def check(rel, do_frontier, alphas, verbose=False, val_witnesses=False):
                 write_domain(d, df)
                 write_problem(p, pf_)
                 c, hp_ = fd(df, pf_)
+                optima.append({"explanation": [upd(f, fr) for f in E], "cost": c})
                 if c is None:
                     if verbose:
                         print(f"  E={[upd(f, fr) for f in E]}: human model unsolvable")
@@ -707,6 +712,7 @@ def check(rel, do_frontier, alphas, verbose=False, val_witnesses=False):
             }
             for k in front
         ]
+        entry["human_optimum"] = optima
         if val_witnesses:
             warnings = witness_warnings(
                 rd, hd, hp, fr, D, cr, res, [pts[k] for k in front], rdf, rpf, tmp
@@ -817,7 +823,10 @@ def main():
         ap.error(str(e))
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))  # so FD children get killed
     doc = {
-        "generated_by": shlex.join([os.path.basename(sys.executable), *sys.argv]),
+        # --force only allows overwriting FILE; it does not change the results
+        "generated_by": shlex.join(
+            [os.path.basename(sys.executable), *(x for x in sys.argv if x != "--force")]
+        ),
         "tool": "domains/check_domains.py (Fast Downward astar(lmcut()) + VAL)",
         "instances": {},
     }
