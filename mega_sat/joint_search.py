@@ -69,7 +69,7 @@ class JointSearcher:
     def robot_h(self, s: int) -> float:
         h = self._r_h.get(s)
         if h is None:
-            h = self._r_h[s] = self._r_relaxed.h_max(_bits(s))
+            h = self._r_h[s] = self._r_relaxed.lmcut(_bits(s))
         return h
 
     def search(

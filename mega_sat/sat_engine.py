@@ -39,7 +39,7 @@ def sat_frontier(
     solver: str = "cadical195",
     timeout: float | None = None,
     joint: str = "portfolio",
-    joint_conflict_budget: int = 20_000,
+    joint_conflict_budget: int | None = None,
     core_search_factor: float = 3.0,
 ) -> Frontier:
     """Compute the Pareto frontier of MEGA solutions with the hitting-set loop.
@@ -51,7 +51,8 @@ def sat_frontier(
     ``joint`` answers JOINT, the check that gives cores: ``sat`` (the SAT oracle alone),
     ``search`` (the explicit product search of :mod:`mega_sat.joint_search`, whose cores are
     proven on abstractions) or ``portfolio`` (the SAT oracle with ``joint_conflict_budget``
-    conflicts per call, then the search if it is undecided).  All three are exact.
+    conflicts per call, adaptive when None (see :class:`_Budget`), then the search if it is
+    undecided).  All three are exact.
 
     OPT goes through :class:`mega_sat.tiered_opt.TieredOpt` (cheap proofs first, ``planner``
     last).  ``core_search_factor``: unsolvable candidate models are generalised by searches on
@@ -107,6 +108,7 @@ def sat_frontier(
         "unsolvable_models": 0,
         "joint_searches": 0,
     }
+    budget = _Budget(joint_conflict_budget)
     _searcher = []
 
     def searcher() -> JointSearcher:
@@ -168,6 +170,7 @@ def sat_frontier(
             try:
                 # pi* is a witness if the robot can run it within K; c_robot and (when costs
                 # allow) c* are proven lower bounds that spare the final UNSAT call
+                t_sat = time.perf_counter()
                 res = (
                     _UNDECIDED
                     if joint == "search"
@@ -178,12 +181,14 @@ def sat_frontier(
                         hints=(opt.plan,),
                         robot_lower_bound=robot_lb,
                         human_lower_bound=opt.cost if opt.exact else None,
-                        conflict_budget=joint_conflict_budget if joint == "portfolio" else None,
+                        conflict_budget=budget.conflicts if joint == "portfolio" else None,
                     )
                 )
+                t_sat = time.perf_counter() - t_sat
                 ts = tight_support(family, sel, opt.plan)
                 if res.status == "unknown":
                     stats["joint_searches"] += 1
+                    t_search = time.perf_counter()
                     res = search_joint(
                         searcher(),
                         family,
@@ -195,6 +200,7 @@ def sat_frontier(
                     )
                     if res is None:
                         raise OracleInterrupted
+                    budget.update(t_sat, time.perf_counter() - t_search)
             except OracleInterrupted:
                 time_out()
                 break
@@ -237,6 +243,8 @@ def sat_frontier(
             "opt_planner_time_s": round(opt_planner.time_s, 6),
             **tiered.stats,
             "hitting_set": hitting_set,
+            "joint": joint,
+            "joint_conflict_budget_final": budget.conflicts,
             "hitting_set_calls": hs.calls,
             **getattr(orc, "stats", {}),
         },
@@ -244,6 +252,28 @@ def sat_frontier(
 
 
 JOINT_METHODS = ("portfolio", "sat", "search")
+
+
+class _Budget:
+    """The portfolio's SAT conflict budget per JOINT call.
+
+    Fixed when given; otherwise it starts at 5,000 conflicts and adapts to the task: after a
+    call where SAT ran out and the explicit search answered, the budget halves when the search
+    took less time than the wasted SAT attempt and doubles otherwise (within 1,000-160,000).
+    Either way every answer is exact; only which oracle gives it changes.
+    """
+
+    def __init__(self, fixed: int | None):
+        self.adaptive = fixed is None
+        self.conflicts = 5_000 if fixed is None else fixed
+
+    def update(self, sat_s: float, search_s: float) -> None:
+        if not self.adaptive:
+            return
+        if search_s < sat_s:
+            self.conflicts = max(1_000, self.conflicts // 2)
+        else:
+            self.conflicts = min(160_000, self.conflicts * 2)
 
 
 class _Undecided:

@@ -53,18 +53,24 @@ def _bits(s: int) -> list[int]:
 class RelaxedTask:
     """The delete-relaxation of a ground task with the usual LM-cut normalisation: an
     artificial atom ``true`` (precondition of actions without preconditions) and an
-    artificial goal action (precondition = goal, adds ``goal``, cost 0)."""
+    artificial goal action (precondition = goal, adds ``goal``, cost 0).
+
+    Add effects on atoms that are neither a precondition nor a goal are dropped: they cannot
+    change h^max of the goal or any LM-cut landmark, and skipping them makes every evaluation
+    cheaper (half the facts of a two-fact abstraction are such atoms)."""
 
     def __init__(self, task: GroundTask):
         n = len(task.atoms)
         self.true_atom, self.goal_atom = n, n + 1
         self.n_atoms = n + 2
+        needed = set(task.goal).union(*(a.pre for a in task.actions))
+        self.needed = [p in needed for p in range(n)] + [True, True]
         pres: list[tuple[int, ...]] = []
         adds: list[tuple[int, ...]] = []
         costs: list[int] = []
         for a in task.actions:
             pres.append(tuple(sorted(a.pre)) or (self.true_atom,))
-            adds.append(tuple(sorted(a.add)))
+            adds.append(tuple(sorted(q for q in a.add if q in needed)))
             costs.append(a.cost)
         pres.append(tuple(sorted(task.goal)) or (self.true_atom,))
         adds.append((self.goal_atom,))
@@ -93,7 +99,8 @@ class RelaxedTask:
         done = [False] * self.n_atoms
         left = self.n_pre[:]
         pcf = [-1] * len(self.pres)
-        heap = [(0, p) for p in state]
+        needed = self.needed
+        heap = [(0, p) for p in state if needed[p]]
         heap.append((0, self.true_atom))
         for _, p in heap:
             h[p] = 0
@@ -119,7 +126,32 @@ class RelaxedTask:
         return h, pcf
 
     def h_max(self, state: list[int]) -> float:
-        return self.hmax(state, self.costs, stop_at_goal=True)[0][self.goal_atom]
+        """h^max of the goal alone: the same Dijkstra as :meth:`hmax` without the choice
+        function, stopping when the goal is popped (the hot loop of the paired search)."""
+        h = [_INF] * self.n_atoms
+        left = self.n_pre[:]
+        pre_of, adds, costs, needed = self.pre_of, self.adds, self.costs, self.needed
+        goal = self.goal_atom
+        heap = [(0, p) for p in state if needed[p]]
+        heap.append((0, self.true_atom))
+        for _, p in heap:
+            h[p] = 0
+        pop, push = heapq.heappop, heapq.heappush
+        while heap:
+            d, p = pop(heap)
+            if d > h[p]:
+                continue
+            if p == goal:
+                return d
+            for j in pre_of[p]:
+                left[j] -= 1
+                if left[j] == 0:
+                    c = d + costs[j]
+                    for q in adds[j]:
+                        if c < h[q]:
+                            h[q] = c
+                            push(heap, (c, q))
+        return _INF
 
     def lmcut(self, state: list[int]) -> float:
         """LM-cut: repeatedly find a cut between the initial atoms and the zero-cost goal zone
