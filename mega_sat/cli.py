@@ -400,17 +400,12 @@ def engine_options(fn):
     return fn
 
 
-def _solver(task, engine, planner, hitting_set, timeout, joint="portfolio"):
+def _solver(kw):
+    """The task and the engine options of ``solve`` / ``frontier`` as one MegaSolver."""
     from mega_sat.api import MegaSolver
 
-    return MegaSolver(
-        task,
-        engine=engine,
-        planner=planner,
-        hitting_set=hitting_set,
-        timeout=timeout,
-        joint=joint,
-    )
+    engine_kw = {k: kw.pop(k) for k in ("engine", "planner", "joint", "hitting_set", "timeout")}
+    return MegaSolver(_task_from(kw), **engine_kw)
 
 
 def _point_text(p, c_robot, alpha=None, objective=None) -> list[str]:
@@ -494,27 +489,13 @@ def _status_line(fr) -> str:
 )
 @engine_options
 @_friendly
-def solve(
-    alpha,
-    engine,
-    planner,
-    joint,
-    hitting_set,
-    timeout,
-    as_json,
-    do_verify,
-    write_model,
-    force,
-    verbose,
-    **kw,
-):
+def solve(alpha, as_json, do_verify, write_model, force, verbose, **kw):
     """MEGA: the plan and explanation for one alpha."""
     try:
         a = float(alpha)
     except ValueError:
         raise UsageError(f"--alpha must be a number >= 0, got '{alpha}'") from None
-    task = _task_from(kw)
-    s = _solver(task, engine, planner, hitting_set, timeout, joint)
+    s = _solver(kw)
     _verbose_family(s, verbose)
     t0 = time.perf_counter()
     sol = s.solve(a)
@@ -546,22 +527,9 @@ def solve(
 @task_options
 @engine_options
 @_friendly
-def frontier(
-    engine,
-    planner,
-    joint,
-    hitting_set,
-    timeout,
-    as_json,
-    do_verify,
-    write_model,
-    force,
-    verbose,
-    **kw,
-):
+def frontier(as_json, do_verify, write_model, force, verbose, **kw):
     """All Pareto-optimal (|E|, robot cost) pairs: one run answers every alpha."""
-    task = _task_from(kw)
-    s = _solver(task, engine, planner, hitting_set, timeout, joint)
+    s = _solver(kw)
     _verbose_family(s, verbose)
     fr = s.frontier()
     reports = _check_and_write(s, fr.points, do_verify, write_model, force)
