@@ -76,9 +76,3 @@ def abstract_task(
     goal = frozenset(p for p, g in family.goal if must(g))
     atoms = tuple(family.atoms) + tuple(("not", *atom) for atom in family.atoms)
     return GroundTask(atoms, tuple(actions), frozenset(init), goal)
-
-
-def concrete_facts(n_atoms: int, state: Iterable[int]) -> frozenset[int]:
-    """The two-fact form of a concrete state (for tests and for seeding searches)."""
-    s = frozenset(state)
-    return s | frozenset(n_atoms + p for p in range(n_atoms) if p not in s)

@@ -80,7 +80,6 @@ class JointSearcher:
         *,
         node_limit: int | None = None,
         deadline: float | None = None,
-        human_heuristic: str = "hmax",
         heuristic_task: GroundTask | None = None,
         track: CoreTracker | None = None,
     ) -> JointSearchResult:
@@ -93,8 +92,7 @@ class JointSearcher:
         r_masks = self._r_masks
         r_goal = self._r_goal
         h_goal = sum(1 << p for p in human.goal)
-        h_relaxed = RelaxedTask(heuristic_task if heuristic_task is not None else human)
-        h_fn = h_relaxed.lmcut if human_heuristic == "lmcut" else h_relaxed.h_max
+        h_fn = RelaxedTask(heuristic_task if heuristic_task is not None else human).h_max
         h_cache: dict[int, float] = {}
 
         def human_h(s: int) -> float:

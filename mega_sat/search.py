@@ -126,32 +126,7 @@ class RelaxedTask:
         return h, pcf
 
     def h_max(self, state: list[int]) -> float:
-        """h^max of the goal alone: the same Dijkstra as :meth:`hmax` without the choice
-        function, stopping when the goal is popped (the hot loop of the paired search)."""
-        h = [_INF] * self.n_atoms
-        left = self.n_pre[:]
-        pre_of, adds, costs, needed = self.pre_of, self.adds, self.costs, self.needed
-        goal = self.goal_atom
-        heap = [(0, p) for p in state if needed[p]]
-        heap.append((0, self.true_atom))
-        for _, p in heap:
-            h[p] = 0
-        pop, push = heapq.heappop, heapq.heappush
-        while heap:
-            d, p = pop(heap)
-            if d > h[p]:
-                continue
-            if p == goal:
-                return d
-            for j in pre_of[p]:
-                left[j] -= 1
-                if left[j] == 0:
-                    c = d + costs[j]
-                    for q in adds[j]:
-                        if c < h[q]:
-                            h[q] = c
-                            push(heap, (c, q))
-        return _INF
+        return self.hmax(state, self.costs, stop_at_goal=True)[0][self.goal_atom]
 
     def lmcut(self, state: list[int]) -> float:
         """LM-cut: repeatedly find a cut between the initial atoms and the zero-cost goal zone
