@@ -129,41 +129,21 @@ def test_write_model_and_verify_files(tmp_path):
         run("solve", "--task", USAR, "--alpha", "0.1", "--write-model", out, "--force").exit_code
         == 0
     )
-    ok = run(
-        "verify",
-        "--task",
-        USAR,
-        "--explanation",
-        point / "explanation.txt",
-        "--plan",
-        point / "plan.ipc",
-    )
+
+    def verify(explanation, plan):
+        return run("verify", "--task", USAR, "--explanation", explanation, "--plan", plan)
+
+    ok = verify(point / "explanation.txt", point / "plan.ipc")
     assert ok.exit_code == 0 and "verify: passed" in ok.output
     # tampering: drop the explanation line -> the plan is no longer optimal for the human
     (tmp_path / "empty.txt").write_text("")
-    bad = run(
-        "verify",
-        "--task",
-        USAR,
-        "--explanation",
-        tmp_path / "empty.txt",
-        "--plan",
-        point / "plan.ipc",
-    )
+    bad = verify(tmp_path / "empty.txt", point / "plan.ipc")
     assert bad.exit_code == 1 and "FAIL" in bad.output
     # tampering: swap two plan steps -> not executable
     steps = (point / "plan.ipc").read_text().splitlines()
     steps[1], steps[2] = steps[2], steps[1]
     (tmp_path / "swapped.ipc").write_text("\n".join(steps) + "\n")
-    bad2 = run(
-        "verify",
-        "--task",
-        USAR,
-        "--explanation",
-        point / "explanation.txt",
-        "--plan",
-        tmp_path / "swapped.ipc",
-    )
+    bad2 = verify(point / "explanation.txt", tmp_path / "swapped.ipc")
     assert bad2.exit_code == 1 and "FAIL valid in robot model" in bad2.output
 
 
