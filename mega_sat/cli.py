@@ -724,5 +724,14 @@ def _register_bench() -> None:
 
 _register_bench()
 
+
+def _register_bench_calls() -> None:
+    from mega_sat.oracle_bench import bench_calls_command
+
+    main.add_command(bench_calls_command, "bench-calls")
+
+
+_register_bench_calls()
+
 if __name__ == "__main__":  # pragma: no cover
     main()
