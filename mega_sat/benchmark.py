@@ -46,7 +46,7 @@ import subprocess
 import sys
 import tempfile
 import time
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from concurrent.futures import ThreadPoolExecutor, as_completed
 from dataclasses import asdict, dataclass
 from pathlib import Path
@@ -246,6 +246,17 @@ def _write_json(path: str, data: dict[str, Any]) -> None:
     os.replace(tmp, path)
 
 
+def _failure(e: Exception) -> dict[str, Any]:
+    """The record of a worker whose measurement raised ``e`` (call it in the ``except``)."""
+    import traceback
+
+    return {
+        "status": "error",
+        "error": f"{type(e).__name__}: {e}",
+        "traceback": traceback.format_exc(limit=8),
+    }
+
+
 def _robot_end(fr) -> int | None:
     ends = [p.size for p in fr.points if p.robot_cost == fr.robot_optimal_cost]
     return min(ends) if ends else None
@@ -400,13 +411,7 @@ def run_command(
             rec = run_engine(task_dir, engine, planner, time_limit, al)
             rec.setdefault("status", "ok")
     except Exception as e:  # noqa: BLE001 - the parent records the failure
-        import traceback
-
-        rec = {
-            "status": "error",
-            "error": f"{type(e).__name__}: {e}",
-            "traceback": traceback.format_exc(limit=8),
-        }
+        rec = _failure(e)
     rec["peak_rss_mb"], rec["peak_rss_children_mb"] = _rss_mb()
     rec["worker_s"] = round(time.perf_counter() - t0, 4)
     _write_json(out, rec)
@@ -425,12 +430,33 @@ def _vm_hwm_mb(pid: int) -> float | None:
     return None
 
 
-def _spawn(args: list[str], hard_limit: float) -> dict[str, Any]:
-    """Run one worker; kill its process group at ``hard_limit`` seconds."""
-    with tempfile.TemporaryDirectory(prefix="mega-bench-") as tmp:
+@dataclass(frozen=True)
+class _Worker:
+    """What one worker process left behind (:func:`_run_worker`)."""
+
+    rec: dict[str, Any]  # the JSON it wrote to ``--out``; {} if none
+    killed: bool  # killed at the hard limit
+    seconds: float
+    peak_mb: float  # largest VmHWM seen; 0.0 unless watched
+    exit_error: str  # "worker exited <code>: <stderr tail>"
+
+
+def _run_worker(
+    module: str,
+    args: Sequence[str],
+    hard_limit: float,
+    *,
+    prefix: str = "mega-bench-",
+    watch_memory: bool = False,
+    collect: Callable[[str, dict[str, Any]], None] | None = None,
+) -> _Worker:
+    """Run ``python -m <module> _run <args> --out FILE`` in its own session and a temporary
+    folder; kill its process group at ``hard_limit`` seconds.  ``watch_memory`` polls its
+    VmHWM every 0.05 s; ``collect(FILE, rec)`` runs before the folder is removed."""
+    with tempfile.TemporaryDirectory(prefix=prefix) as tmp:
         out = os.path.join(tmp, "result.json")
         err_path = os.path.join(tmp, "stderr.txt")
-        cmd = [sys.executable, "-m", "mega_sat.benchmark", "_run", *args, "--out", out]
+        cmd = [sys.executable, "-m", module, "_run", *args, "--out", out]
         t0 = time.perf_counter()
         peak = 0.0
         killed = False
@@ -439,7 +465,12 @@ def _spawn(args: list[str], hard_limit: float) -> dict[str, Any]:
                 cmd, stdout=subprocess.DEVNULL, stderr=err, start_new_session=True
             )
             try:
-                while proc.poll() is None:
+                if not watch_memory:
+                    try:
+                        proc.wait(timeout=hard_limit)
+                    except subprocess.TimeoutExpired:
+                        killed = True
+                while watch_memory and proc.poll() is None:
                     hwm = _vm_hwm_mb(proc.pid)
                     if hwm is not None:
                         peak = max(peak, hwm)
@@ -457,17 +488,26 @@ def _spawn(args: list[str], hard_limit: float) -> dict[str, Any]:
         rec: dict[str, Any] = {}
         if Path(out).is_file():
             rec = json.loads(Path(out).read_text())
-        if killed:
-            rec.update(
-                status="timeout", killed=True, error=f"killed at the hard limit ({hard_limit:.0f}s)"
-            )
-            rec.setdefault("peak_rss_mb", peak or None)
-        elif not rec:
-            tail = Path(err_path).read_text()[-2000:]
-            rec = {"status": "error", "error": f"worker exited {proc.returncode}: {tail}"}
-            rec["peak_rss_mb"] = peak or None
-        rec["process_s"] = round(elapsed, 3)
-        return rec
+        if collect is not None:
+            collect(out, rec)
+        tail = Path(err_path).read_text()[-2000:]
+        return _Worker(rec, killed, elapsed, peak, f"worker exited {proc.returncode}: {tail}")
+
+
+def _spawn(args: list[str], hard_limit: float) -> dict[str, Any]:
+    """Run one worker; kill its process group at ``hard_limit`` seconds."""
+    w = _run_worker("mega_sat.benchmark", args, hard_limit, watch_memory=True)
+    rec = w.rec
+    if w.killed:
+        rec.update(
+            status="timeout", killed=True, error=f"killed at the hard limit ({hard_limit:.0f}s)"
+        )
+        rec.setdefault("peak_rss_mb", w.peak_mb or None)
+    elif not rec:
+        rec = {"status": "error", "error": w.exit_error}
+        rec["peak_rss_mb"] = w.peak_mb or None
+    rec["process_s"] = round(w.seconds, 3)
+    return rec
 
 
 def _hard_limit(limit: float) -> float:
@@ -568,6 +608,14 @@ def machine_info() -> dict[str, Any]:
         "fast_downward": fd_available(),
         "date": _dt.datetime.now().astimezone().isoformat(timespec="seconds"),
     }
+
+
+def _run_machine(jobs: int, last_run: dict[str, Any]) -> dict[str, Any]:
+    """:func:`machine_info` plus how the last run was made."""
+    machine = machine_info()
+    machine["jobs"] = jobs
+    machine["last_run"] = last_run
+    return machine
 
 
 # --------------------------------------------------------------------------- formatting
@@ -879,16 +927,21 @@ def render_markdown(
         parts += ["## Instances not generated", ""]
         parts += [f"- {g['domain']}/Δ{g['delta']}/{g['problem']}: {g.get('error')}" for g in failed]
         parts.append("")
-    errors = [r for r in records if r.get("status") == "error"]
-    if errors:
-        parts += ["## Errors", ""]
-        parts += [
-            f"- {r['suite']} {r['domain']}/Δ{r['delta']}/{r['problem']} {r['engine']}: "
-            f"{str(r.get('error', ''))[:300]}"
-            for r in errors
-        ]
-        parts.append("")
+    parts += _errors_section(
+        records, lambda r: f"{r['suite']} {r['domain']}/Δ{r['delta']}/{r['problem']} {r['engine']}"
+    )
     return "\n".join(parts)
+
+
+def _errors_section(
+    records: Iterable[dict[str, Any]], name: Callable[[dict[str, Any]], str]
+) -> list[str]:
+    """``## Errors``: one line per record with status ``error`` (none: no section)."""
+    errors = [r for r in records if r.get("status") == "error"]
+    if not errors:
+        return []
+    lines = [f"- {name(r)}: {str(r.get('error', ''))[:300]}" for r in errors]
+    return ["## Errors", "", *lines, ""]
 
 
 def write_csv(path: Path, rows: Sequence[dict[str, Any]], fields: Sequence[str]) -> None:
@@ -935,6 +988,16 @@ def plot_sweeps(rows: Sequence[dict[str, Any]], out_dir: Path) -> list[Path]:
     return written
 
 
+def _output_files(out_dir: Path) -> dict[str, Path]:
+    """``results.json``, ``results.csv`` and ``table.md`` in ``out_dir`` (created)."""
+    out_dir.mkdir(parents=True, exist_ok=True)
+    return {
+        "json": out_dir / "results.json",
+        "csv": out_dir / "results.csv",
+        "md": out_dir / "table.md",
+    }
+
+
 def write_outputs(
     out_dir: Path,
     records: Sequence[dict[str, Any]],
@@ -942,12 +1005,7 @@ def write_outputs(
     sweep_rows: Sequence[dict[str, Any]],
     generation: Sequence[dict[str, Any]] = (),
 ) -> dict[str, Path]:
-    out_dir.mkdir(parents=True, exist_ok=True)
-    files = {
-        "json": out_dir / "results.json",
-        "csv": out_dir / "results.csv",
-        "md": out_dir / "table.md",
-    }
+    files = _output_files(out_dir)
     data = {
         "machine": machine,
         "records": list(records),
@@ -967,6 +1025,15 @@ def write_outputs(
 
 
 # --------------------------------------------------------------------------- the command
+
+
+def _previous(out_dir: Path, fresh: bool) -> dict[str, Any]:
+    """The earlier ``results.json`` in ``out_dir``; {} if ``fresh``, absent or unreadable."""
+    pj = out_dir / "results.json"
+    if pj.is_file() and not fresh:
+        with contextlib.suppress(OSError, json.JSONDecodeError):
+            return json.loads(pj.read_text())
+    return {}
 
 
 def plan_jobs(
@@ -1026,13 +1093,7 @@ def run_bench(
     todo = plan_jobs(root, suite, only, time_limit, baseline)
     robot_planners = ["builtin", "sat"] + (["fd"] if fd else [])
 
-    prev: dict[str, Any] = {}
-    pj = out_dir / "results.json"
-    if pj.is_file() and not fresh:
-        try:
-            prev = json.loads(pj.read_text())
-        except (OSError, json.JSONDecodeError):
-            prev = {}
+    prev = _previous(out_dir, fresh)
     records: dict[tuple, dict[str, Any]] = {record_key(r): r for r in prev.get("records", [])}
     sweep_rows = [r for r in prev.get("sweep", [])]
     generation = {(g["domain"], g["problem"], g["delta"]): g for g in prev.get("generation", [])}
@@ -1085,14 +1146,15 @@ def run_bench(
                     ]
     finally:
         bar.close()
-    machine = machine_info()
-    machine["jobs"] = jobs
-    machine["last_run"] = {
-        "suite": suite,
-        "wall_s": round(time.perf_counter() - t0, 1),
-        "baseline_planner": baseline,
-        "runs": len(todo),
-    }
+    machine = _run_machine(
+        jobs,
+        {
+            "suite": suite,
+            "wall_s": round(time.perf_counter() - t0, 1),
+            "baseline_planner": baseline,
+            "runs": len(todo),
+        },
+    )
     ordered = sorted(
         records.values(),
         key=lambda r: (
@@ -1107,6 +1169,13 @@ def run_bench(
     return write_outputs(out_dir, ordered, machine, sweep_rows, list(generation.values()))
 
 
+# options of both benchmark commands (``bench`` here, ``bench-calls`` in mega_sat.oracle_bench)
+_domains_option = click.option(
+    "--domains", "domains_dir", type=click.Path(), default="domains", show_default=True
+)
+_fresh_option = click.option("--fresh", is_flag=True, help="Discard earlier records in --out.")
+
+
 @click.command("bench")
 @click.option(
     "--suite",
@@ -1116,7 +1185,7 @@ def run_bench(
     help="paper: Δ=2/7/10 grid; scaling: Δ=15/20/30; sweep: alpha sweeps on the "
     "base problems; smoke: one small instance; all: paper+scaling+sweep.",
 )
-@click.option("--domains", "domains_dir", type=click.Path(), default="domains", show_default=True)
+@_domains_option
 @click.option(
     "--only",
     multiple=True,
@@ -1144,7 +1213,7 @@ def run_bench(
     show_default=True,
     help="Parallel runs (>1 skews timings; use 1 for published numbers).",
 )
-@click.option("--fresh", is_flag=True, help="Discard earlier records in --out.")
+@_fresh_option
 @click.option(
     "--generate",
     is_flag=True,
@@ -1183,17 +1252,29 @@ def bench_command(
         seed=seed,
         progress=not no_progress,
     )
+    _echo_files(files, t0)
+
+
+def _echo_files(files: dict[str, Path], t0: float) -> None:
+    """The written files, then the wall time since ``t0``."""
     for name, p in files.items():
         click.echo(f"{name}: {p}")
     click.echo(f"wall time {time.perf_counter() - t0:.1f}s")
 
 
-def _main(argv: list[str] | None = None) -> None:
+def _dispatch(
+    argv: list[str] | None, worker: click.Command, command: click.Command, prog: str
+) -> None:
+    """``python -m <prog> _run ...`` runs the hidden worker, anything else the command."""
     argv = sys.argv[1:] if argv is None else argv
     if argv[:1] == ["_run"]:
-        run_command.main(argv[1:], prog_name="mega_sat.benchmark _run")
+        worker.main(argv[1:], prog_name=f"{prog} _run")
     else:
-        bench_command.main(argv, prog_name="mega_sat.benchmark")
+        command.main(argv, prog_name=prog)
+
+
+def _main(argv: list[str] | None = None) -> None:
+    _dispatch(argv, run_command, bench_command, "mega_sat.benchmark")
 
 
 if __name__ == "__main__":

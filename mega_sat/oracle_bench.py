@@ -16,14 +16,8 @@ it made.  Outputs (``--out``): ``results.json``, ``results.csv`` (one row per ca
 from __future__ import annotations
 
 import contextlib
-import csv
 import json
-import os
-import signal
 import statistics
-import subprocess
-import sys
-import tempfile
 import time
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import ThreadPoolExecutor, as_completed
@@ -32,21 +26,31 @@ from typing import Any
 
 import click
 
-from mega_sat.benchmark import _pkey, discover, machine_info
+from mega_sat.benchmark import (
+    _dispatch,
+    _domains_option,
+    _echo_files,
+    _errors_section,
+    _failure,
+    _fresh_option,
+    _output_files,
+    _pkey,
+    _previous,
+    _rss_mb,
+    _run_machine,
+    _run_worker,
+    _write_json,
+    discover,
+    write_csv,
+)
 
 DEFAULT_TARGET = 0.5
 DEFAULT_CALL_LIMIT = 60.0
 DEFAULT_TIME_LIMIT = 600.0
 # a call's ``status``: OPT's and JOINT's own answers, the call limit, or an exception
 CALL_STATUSES = ("optimal", "unsolvable", "unknown", "plan", "infeasible", "timeout", "error")
-SIZE_KEYS = (
-    "opt_vars",
-    "opt_clauses",
-    "opt_horizon",
-    "joint_vars",
-    "joint_clauses",
-    "joint_horizon",
-)
+# opt_vars, opt_clauses, opt_horizon, joint_vars, ...
+SIZE_KEYS = tuple(f"{e}_{x}" for e in ("opt", "joint") for x in ("vars", "clauses", "horizon"))
 
 CALL_FIELDS = (
     "domain",
@@ -329,12 +333,6 @@ def measure(
     return rec
 
 
-def _write_json(path: str, data: dict[str, Any]) -> None:
-    tmp = path + ".tmp"
-    Path(tmp).write_text(json.dumps(data, indent=1, default=str))
-    os.replace(tmp, path)
-
-
 @click.command("_run", hidden=True)
 @click.option("--task", "task_dir", required=True)
 @click.option("--call-limit", type=float, required=True)
@@ -347,17 +345,9 @@ def run_command(task_dir: str, call_limit: float, time_limit: float, out: str) -
             task_dir, call_limit, time_limit, calls_path=out + ".calls.jsonl", info_path=out
         )
     except Exception as e:  # noqa: BLE001 - the parent records the failure
-        import traceback
-
         rec = json.loads(Path(out).read_text()) if Path(out).is_file() else {}
-        rec.update(
-            status="error",
-            error=f"{type(e).__name__}: {e}",
-            traceback=traceback.format_exc(limit=8),
-        )
-    import resource
-
-    rec["peak_rss_mb"] = round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1)
+        rec.update(_failure(e))
+    rec["peak_rss_mb"] = _rss_mb()[0]
     _write_json(out, rec)
 
 
@@ -370,56 +360,29 @@ def hard_limit(time_limit: float) -> float:
     return time_limit + max(5.0, 0.1 * time_limit)
 
 
+def _streamed_calls(out: str, rec: dict[str, Any]) -> None:
+    """A worker killed (or crashed) before the end: the calls it streamed to the side file."""
+    if "calls" not in rec:
+        lines = Path(out + ".calls.jsonl")
+        text = lines.read_text() if lines.is_file() else ""
+        rec["calls"] = [json.loads(x) for x in text.splitlines() if x.strip()]
+
+
 def run_instance(
     task_dir: str, call_limit: float, time_limit: float, domain: str, problem: str
 ) -> dict[str, Any]:
     """One instance in its own process; killed (and recorded as a time-out) on overrun."""
-    with tempfile.TemporaryDirectory(prefix="mega-calls-") as tmp:
-        out = os.path.join(tmp, "result.json")
-        err_path = os.path.join(tmp, "stderr.txt")
-        cmd = [
-            sys.executable,
-            "-m",
-            "mega_sat.oracle_bench",
-            "_run",
-            "--task",
-            task_dir,
-            "--call-limit",
-            repr(call_limit),
-            "--time-limit",
-            repr(time_limit),
-            "--out",
-            out,
-        ]
-        limit = hard_limit(time_limit)
-        t0 = time.perf_counter()
-        killed = False
-        with open(err_path, "w") as err:
-            proc = subprocess.Popen(
-                cmd, stdout=subprocess.DEVNULL, stderr=err, start_new_session=True
-            )
-            try:
-                proc.wait(timeout=limit)
-            except subprocess.TimeoutExpired:
-                killed = True
-            finally:
-                if proc.poll() is None:
-                    with contextlib.suppress(ProcessLookupError):
-                        os.killpg(proc.pid, signal.SIGKILL)
-                    proc.wait()
-        rec: dict[str, Any] = {}
-        if Path(out).is_file():
-            rec = json.loads(Path(out).read_text())
-        if "calls" not in rec:  # killed (or crashed) before the end: the streamed calls
-            lines = Path(out + ".calls.jsonl")
-            text = lines.read_text() if lines.is_file() else ""
-            rec["calls"] = [json.loads(x) for x in text.splitlines() if x.strip()]
-        if killed:
-            rec.update(status="timeout", killed=True, error=f"killed at {limit:.0f}s")
-        elif "status" not in rec:
-            tail = Path(err_path).read_text()[-2000:]
-            rec.update(status="error", error=f"worker exited {proc.returncode}: {tail}")
-        rec["process_s"] = round(time.perf_counter() - t0, 3)
+    args = ["--task", task_dir, "--call-limit", repr(call_limit), "--time-limit", repr(time_limit)]
+    limit = hard_limit(time_limit)
+    w = _run_worker(
+        "mega_sat.oracle_bench", args, limit, prefix="mega-calls-", collect=_streamed_calls
+    )
+    rec = w.rec
+    if w.killed:
+        rec.update(status="timeout", killed=True, error=f"killed at {limit:.0f}s")
+    elif "status" not in rec:
+        rec.update(status="error", error=w.exit_error)
+    rec["process_s"] = round(w.seconds, 3)
     rec.update(domain=domain, problem=problem, task_dir=task_dir)
     rec.setdefault("call_limit_s", call_limit)
     rec.setdefault("time_limit_s", time_limit)
@@ -588,6 +551,7 @@ def summary(records: Sequence[dict[str, Any]], target: float) -> dict[str, Any]:
     """Everything the summary says, computed from the records."""
     pairs = all_calls(records)
     work = [(r, c) for r, c in pairs if not c.get("cached")]
+    calls = [c for _, c in pairs]
     over = [(r, c) for r, c in work if over_target(c, target)]
     unfinished = [r for r in records if r.get("status") != "ok"]
     if over:
@@ -606,11 +570,9 @@ def summary(records: Sequence[dict[str, Any]], target: float) -> dict[str, Any]:
             for s in sorted({str(r.get("status")) for r in records})
         },
         "calls": len(work),
-        "calls_loop_opt": sum(1 for _, c in work if c["kind"] == "opt" and c["group"] == "loop"),
-        "calls_direct_opt": sum(
-            1 for _, c in work if c["kind"] == "opt" and c["group"] == "direct"
-        ),
-        "calls_joint": sum(1 for _, c in work if c["kind"] == "joint"),
+        "calls_loop_opt": len(timed(calls, "opt", "loop")),
+        "calls_direct_opt": len(timed(calls, "opt", "direct")),
+        "calls_joint": len(timed(calls, "joint")),
         "cached_opt": len(pairs) - len(work),
         "over_target": len(over),
         "timeouts": sum(1 for _, c in work if c.get("status") == "timeout"),
@@ -693,14 +655,7 @@ def render_table(records: Sequence[dict[str, Any]], machine: dict[str, Any], tar
     else:
         parts.append("No calls recorded.")
     parts.append("")
-    errors = [r for r in records if r.get("status") == "error"]
-    if errors:
-        parts += ["## Errors", ""]
-        parts += [
-            f"- {r.get('domain')}/{r.get('problem')}: {str(r.get('error', ''))[:300]}"
-            for r in errors
-        ]
-        parts.append("")
+    parts += _errors_section(records, lambda r: f"{r.get('domain')}/{r.get('problem')}")
     return "\n".join(parts)
 
 
@@ -719,23 +674,14 @@ def call_rows(records: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
 def write_outputs(
     out_dir: Path, records: Sequence[dict[str, Any]], machine: dict[str, Any], target: float
 ) -> dict[str, Path]:
-    out_dir.mkdir(parents=True, exist_ok=True)
-    files = {
-        "json": out_dir / "results.json",
-        "csv": out_dir / "results.csv",
-        "md": out_dir / "table.md",
-    }
+    files = _output_files(out_dir)
     s = summary(records, target)
     s["slowest"] = [
         {"domain": r.get("domain"), "problem": r.get("problem"), **c} for r, c in s["slowest"]
     ]
     data = {"machine": machine, "target_s": target, "summary": s, "records": list(records)}
     files["json"].write_text(json.dumps(data, indent=1, default=str))
-    with files["csv"].open("w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(CALL_FIELDS), extrasaction="ignore")
-        w.writeheader()
-        for row in call_rows(records):
-            w.writerow({k: ("" if row.get(k) is None else row.get(k)) for k in CALL_FIELDS})
+    write_csv(files["csv"], call_rows(records), CALL_FIELDS)
     files["md"].write_text(render_table(records, machine, target))
     return files
 
@@ -762,11 +708,7 @@ def run_calls_bench(
     insts = discover(root, "sweep", only)  # the base problems, same --only rules as bench
     if not insts:
         raise click.UsageError("no instance matches --only")
-    prev: dict[str, Any] = {}
-    pj = out_dir / "results.json"
-    if pj.is_file() and not fresh:
-        with contextlib.suppress(OSError, json.JSONDecodeError):
-            prev = json.loads(pj.read_text())
+    prev = _previous(out_dir, fresh)
     records = {(r.get("domain"), r.get("problem")): r for r in prev.get("records", [])}
     t0 = time.perf_counter()
     with ThreadPoolExecutor(max_workers=max(1, jobs)) as ex:
@@ -785,20 +727,21 @@ def run_calls_bench(
                     f"[{n}/{len(insts)}] {i.domain}/{i.problem}: {rec.get('status')}, "
                     f"{len(work)} calls, slowest {mx:.3f}s"
                 )
-    machine = machine_info()
-    machine["jobs"] = jobs
-    machine["last_run"] = {
-        "instances": len(insts),
-        "wall_s": round(time.perf_counter() - t0, 1),
-        "call_limit_s": call_limit,
-        "time_limit_s": time_limit,
-    }
+    machine = _run_machine(
+        jobs,
+        {
+            "instances": len(insts),
+            "wall_s": round(time.perf_counter() - t0, 1),
+            "call_limit_s": call_limit,
+            "time_limit_s": time_limit,
+        },
+    )
     ordered = sorted(records.values(), key=lambda r: (r.get("domain"), _pkey(r.get("problem"))))
     return write_outputs(out_dir, ordered, machine, target)
 
 
 @click.command("bench-calls")
-@click.option("--domains", "domains_dir", type=click.Path(), default="domains", show_default=True)
+@_domains_option
 @click.option(
     "--only",
     multiple=True,
@@ -835,7 +778,7 @@ def run_calls_bench(
     show_default=True,
     help="Instances in parallel (>1 skews timings).",
 )
-@click.option("--fresh", is_flag=True, help="Discard earlier records in --out.")
+@_fresh_option
 def bench_calls_command(
     domains_dir: str,
     only: tuple[str, ...],
@@ -864,17 +807,11 @@ def bench_calls_command(
         fresh=fresh,
         echo=lambda s: click.echo(s, err=True),
     )
-    for name, p in files.items():
-        click.echo(f"{name}: {p}")
-    click.echo(f"wall time {time.perf_counter() - t0:.1f}s")
+    _echo_files(files, t0)
 
 
 def _main(argv: list[str] | None = None) -> None:
-    argv = sys.argv[1:] if argv is None else argv
-    if argv[:1] == ["_run"]:
-        run_command.main(argv[1:], prog_name="mega_sat.oracle_bench _run")
-    else:
-        bench_calls_command.main(argv, prog_name="mega_sat.oracle_bench")
+    _dispatch(argv, run_command, bench_calls_command, "mega_sat.oracle_bench")
 
 
 if __name__ == "__main__":
