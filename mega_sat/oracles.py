@@ -24,6 +24,7 @@ from dataclasses import dataclass
 from pysat.solvers import Solver
 
 from mega_sat.family import GroundFamily, GroundTask, GuardLit, PlanStep
+from mega_sat.plan_reduction import reduce_plan
 from mega_sat.sat_encoding import HUMAN, ROBOT, FamilyEncoding
 
 _INF = float("inf")
@@ -235,6 +236,7 @@ class SatOracles:
             partial_order=partial_order,
         )
         self._opt_cache: dict[frozenset[int], OptResult] = {}
+        self._opt_plans: list[tuple[PlanStep, ...]] = []
         self._robot_lb: int | None = None
         self._tasks: dict[frozenset[int], GroundTask] = {}
         # per-copy minimum action costs for the JOINT horizon: the robot copy always runs in
@@ -424,6 +426,8 @@ class SatOracles:
         t0 = time.perf_counter()
         res = self._opt(sel, t0)
         self._opt_cache[sel] = res
+        if res.status == "optimal" and res.plan and res.plan not in self._opt_plans:
+            self._opt_plans.append(res.plan)
         return res
 
     def _opt(self, sel: frozenset[int], t0: float) -> OptResult:
@@ -442,10 +446,11 @@ class SatOracles:
             return done("optimal", 0, (), True, "goal holds initially")
         sel_lits = enc.selection_assumptions(sel)
 
-        # (2) first plan: double the horizon (no cost bound) until SAT or the cap
+        # (2) first plan: the cheapest earlier optimal plan valid here, else double the horizon
+        # (no cost bound) until SAT or the cap; every plan is shortened by action elimination
+        plan = self._known_plan(task)
         h = min(max(lb_steps, 1), self.horizon_cap)
-        plan = None
-        while True:
+        while plan is None:
             calls += 1
             if self._solve(solver, sel_lits + enc.goal_assumptions(h)):
                 plan = enc.decode_plan(solver.get_model(), h)
@@ -455,8 +460,7 @@ class SatOracles:
             h = min(2 * h, self.horizon_cap)
         if plan is None:
             return self._opt_fallback(task, calls, t0)
-        best = _simulate_cost(task, plan)
-        assert best is not None, "decoded plan does not simulate: encoding bug"
+        plan, best = reduce_plan(task, plan)
 
         # (3) descend: cost <= best - 1 until UNSAT
         while True:
@@ -475,7 +479,17 @@ class SatOracles:
             plan = enc.decode_plan(solver.get_model(), h)
             cost = _simulate_cost(task, plan)
             assert cost is not None and cost < best, "decoded plan invalid or not cheaper"
-            best = cost
+            plan, best = reduce_plan(task, plan)
+
+    def _known_plan(self, task: GroundTask) -> tuple[PlanStep, ...] | None:
+        """The cheapest plan of an earlier OPT answer that is valid in ``task`` (an upper
+        bound to descend from: neighbouring candidate models often share optimal plans)."""
+        best = None
+        for plan in self._opt_plans:
+            c = _simulate_cost(task, plan)
+            if c is not None and (best is None or c < best[0]):
+                best = (c, plan)
+        return None if best is None else best[1]
 
     def _opt_fallback(self, task: GroundTask, calls: int, t0: float) -> OptResult:
         """No plan within the horizon cap: only an exhaustive explicit search can decide."""

@@ -24,6 +24,7 @@ from dataclasses import dataclass
 from pysat.card import ITotalizer
 
 from mega_sat.family import GroundFamily, Guard, GuardLit, PlanStep, step_str
+from mega_sat.invariants import Invariants, family_invariants, relevant_actions
 
 HUMAN = "human"
 ROBOT = "robot"
@@ -46,6 +47,11 @@ class EncodingSize:
     horizon: int
 
 
+def _state_lit(base: int, lit: int) -> int:
+    """A state literal ``±(p+1)`` of :class:`Invariants` at the state layer with ``base``."""
+    return base + lit if lit > 0 else -(base - lit)
+
+
 class FamilyEncoding:
     """Bounded-horizon sequential encoding of ``family`` with one or two state copies.
 
@@ -62,6 +68,7 @@ class FamilyEncoding:
         copies: Sequence[str] = (HUMAN,),
         symmetry_breaking: bool = True,
         partial_order: bool = False,
+        invariants: bool = True,
     ):
         if (
             not copies
@@ -96,6 +103,21 @@ class FamilyEncoding:
         self.partial_order = partial_order and symmetry_breaking
         if self.partial_order:
             self._prepare_ordering()
+        # redundant clauses valid in every reachable state (mega_sat/invariants.py): the human
+        # copy's hold for every selection, the robot copy's for the robot model
+        self.invariants: dict[str, Invariants] = {}
+        if invariants:
+            for c in self.copies:
+                fixed = range(family.n_updates) if c == ROBOT else ()
+                sel = family.robot_selection if c == ROBOT else frozenset()
+                self.invariants[c] = family_invariants(family, sel, fixed)
+        # actions no plan needs (backward relevance over every model): never encoded as usable
+        relevant = relevant_actions(family) if invariants else None
+        self.irrelevant = tuple(
+            j for j in range(self.n_actions) if relevant is not None and j not in relevant
+        )
+        # cheapest step of each copy in cost units: "some action runs at t" implies them
+        self._min_units = {c: self._copy_min_units(c) for c in self.copies}
         for c in self.copies:
             self.x_base[c].append(self._alloc(self.n_atoms))
             self._init_clauses(c)
@@ -142,6 +164,17 @@ class FamilyEncoding:
     def u(self, copy: str, t: int, k: int) -> int:
         """Cost unit ``k`` (1-based) of step ``t``: "step t costs at least k units"."""
         return self.u_base[copy][t] + k
+
+    def _copy_min_units(self, copy: str) -> int:
+        """Cost units every action usable in ``copy`` costs at least (0 with zero costs)."""
+        vals = []
+        for a in self.family.actions:
+            if self._guard(copy, a.exists) is False:
+                continue
+            for guards, v in a.cost:
+                if all(self._guard(copy, g) is not False for g in guards):
+                    vals.append(v)
+        return min(vals, default=0) // self.cost_unit
 
     # ------------------------------------------------------ guard evaluation
     def _guard(self, copy: str, g: Guard) -> bool | Lit:
@@ -299,6 +332,19 @@ class FamilyEncoding:
             bases = (0, a_base, self.x_base[c][t], x1, u_base)
             for clause in self._templates[c]:
                 self._emit([self._resolve(lit, bases) for lit in clause])
+            if self._min_units[c] > 0:
+                self._emit([-act, u_base + self._min_units[c]])
+            inv = self.invariants.get(c)
+            if inv is not None:
+                for l1, l2 in inv.binary:
+                    self._emit([_state_lit(x1, l1), _state_lit(x1, l2)])
+                for lit in inv.fixed_at(t + 1):
+                    self._emit([_state_lit(x1, lit)])
+        off = {
+            j for inv in self.invariants.values() for j, f in enumerate(inv.action_from) if f > t
+        }
+        for j in sorted(off.union(self.irrelevant)):
+            self._emit([-(a_base + j + 1)])
         for c in self.copies:
             tot = self._tot[c]
             if tot is not None and new_units[c]:

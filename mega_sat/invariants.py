@@ -1,0 +1,147 @@
+"""State invariants and reachability layers that hold in a set of family members.
+
+SAT planners prove "no plan within the bounds" much faster when the formula also states what
+every reachable state satisfies (Rintanen's invariants): without them the solver must rediscover,
+by conflicts, that a hand holds one thing at a time or a robot is at one place.  Both facts here
+are computed on the two-fact abstraction (:mod:`mega_sat.abstraction`), whose states contain
+those of every model it over-approximates, so they hold in *every* state reachable in any such
+model and adding them as clauses removes no plan of any of them:
+
+* **mutex pairs** (h^2, :mod:`mega_sat.pair_reachability`): two abstract facts never true
+  together.  With ``T_p`` read as ``x_p`` and ``F_p`` as ``not x_p`` each gives a binary clause
+  (``not p or not q``, ``p -> q`` or ``p or q``);
+* **layers** (h^1 with unit costs): the first step at which an abstract fact can hold; before it
+  ``x_p`` is false (``T_p``) or true (``F_p``), and an action whose certain preconditions are not
+  all reached yet cannot run.
+
+For the human copy of an encoding (which must serve every selection, since UNSAT cores over
+selectors are read off it) the abstraction leaves every update free; for the robot copy it fixes
+every update (the robot model itself).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import dataclass
+
+from mega_sat.abstraction import abstract_task
+from mega_sat.family import GroundFamily
+from mega_sat.pair_reachability import pair_masks
+
+_NEVER = 1 << 30
+
+
+@dataclass(frozen=True)
+class Invariants:
+    """Clauses valid in every reachable state of the members covered.
+
+    ``binary``: pairs of state literals ``(±(p+1), ±(q+1))`` (atom ids shifted by one, sign =
+    truth), each a clause ``l1 or l2`` over the same step; ``true_from[p]`` / ``false_from[p]``:
+    first step at which ``p`` may be true / false (``_NEVER``: at no step); ``action_from[j]``:
+    first step at which family action ``j`` may run.
+    """
+
+    binary: tuple[tuple[int, int], ...]
+    true_from: tuple[int, ...]
+    false_from: tuple[int, ...]
+    action_from: tuple[int, ...]
+
+    def fixed_at(self, t: int) -> Iterable[int]:
+        """State literals forced at step ``t`` by the layers (``p+1``: true, ``-(p+1)``: false)."""
+        for p, (tf, ff) in enumerate(zip(self.true_from, self.false_from, strict=True)):
+            if tf > t:
+                yield -(p + 1)
+            elif ff > t:
+                yield p + 1
+
+
+def family_invariants(
+    family: GroundFamily, selection: frozenset[int] = frozenset(), fixed: Iterable[int] = ()
+) -> Invariants:
+    """Invariants of every ``human + E'`` with ``E'`` agreeing with ``selection`` on ``fixed``
+    (default: every model of the family)."""
+    task = abstract_task(family, frozenset(selection), fixed)
+    n = len(family.atoms)
+    masks = pair_masks(task)
+    layer = _unit_layers(task)
+    # atoms whose value can never change need no mutex clauses: frame axioms carry them
+    changing = [False] * n
+    for a in family.actions:
+        for p, _ in a.add + a.delete:
+            changing[p] = True
+    reach = [bool((masks[f] >> f) & 1) for f in range(2 * n)]
+
+    def lit(f: int) -> int:
+        return f + 1 if f < n else -(f - n + 1)
+
+    binary: list[tuple[int, int]] = []
+    for f in range(2 * n):
+        if not reach[f] or not changing[f % n]:
+            continue
+        for g in range(f + 1, 2 * n):
+            if g % n == f % n or not reach[g] or not changing[g % n]:
+                continue
+            if not (masks[f] >> g) & 1:
+                binary.append((-lit(f), -lit(g)))
+    true_from = tuple(layer[p] if reach[p] else _NEVER for p in range(n))
+    false_from = tuple(layer[n + p] if reach[n + p] else _NEVER for p in range(n))
+    action_from = [_NEVER] * len(family.actions)
+    for a in task.actions:
+        if all(reach[p] for p in a.pre) and not any(
+            not (masks[p] >> q) & 1 for p in a.pre for q in a.pre
+        ):
+            action_from[a.index] = max((layer[p] for p in a.pre), default=0)
+    return Invariants(tuple(binary), true_from, false_from, tuple(action_from))
+
+
+def _unit_layers(task) -> list[int]:
+    """First step at which each fact of ``task`` is relaxed-reachable (unit costs)."""
+    layer = [_NEVER] * len(task.atoms)
+    frontier = list(task.init)
+    for p in frontier:
+        layer[p] = 0
+    t = 0
+    pending = list(task.actions)
+    while frontier:
+        t += 1
+        new: list[int] = []
+        rest = []
+        for a in pending:
+            if all(layer[p] < t for p in a.pre):
+                for q in a.add:
+                    if layer[q] == _NEVER:
+                        layer[q] = t
+                        new.append(q)
+            else:
+                rest.append(a)
+        pending = rest
+        frontier = new
+    return layer
+
+
+def relevant_actions(family: GroundFamily) -> frozenset[int]:
+    """Actions that can matter for reaching the goal in some model of the family.
+
+    Backward relevance over the union of every guarded component: goal atoms and the
+    preconditions of relevant actions must be kept true (``keep``), negative preconditions of
+    relevant actions kept false (``avoid``); an action is relevant if it adds a ``keep`` atom
+    or deletes an ``avoid`` atom.  Dropping every other action from a plan leaves a plan of the
+    same model (the ``keep`` atoms it has are a superset, the ``avoid`` atoms a subset of the
+    original's at every step, and the goal is kept) that costs no more, in every model at once,
+    so an encoding without them still has a plan within any cost bounds that had one.
+    """
+    keep = {p for p, _ in family.goal}
+    avoid: set[int] = set()
+    relevant: set[int] = set()
+    changed = True
+    while changed:
+        changed = False
+        for j, a in enumerate(family.actions):
+            if j in relevant:
+                continue
+            if any(p in keep for p, _ in a.add) or any(p in avoid for p, _ in a.delete):
+                relevant.add(j)
+                keep.update(p for p, _ in a.pre)
+                avoid.update(p for p, _ in a.negpre)
+                changed = True
+    return frozenset(relevant)

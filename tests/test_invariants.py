@@ -1,0 +1,132 @@
+"""Invariants added to the SAT encoding (mega_sat/invariants.py) and greedy action elimination
+(mega_sat/plan_reduction.py), against explicit-state ground truth on random families."""
+
+from __future__ import annotations
+
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from sat_families import all_selections, families, plan_cost, selections
+
+from mega_sat.family import GroundFamily, GroundTask
+from mega_sat.invariants import family_invariants
+from mega_sat.plan_reduction import reduce_plan
+
+SETTINGS = settings(
+    max_examples=150, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck)
+)
+
+
+def _layered_states(task: GroundTask, depth: int) -> list[set[frozenset[int]]]:
+    """``out[t]``: every state reachable in at most ``t`` steps (later steps may idle)."""
+    layers = [{frozenset(task.init)}]
+    for _ in range(depth):
+        nxt = set(layers[-1])
+        for s in layers[-1]:
+            for a in task.actions:
+                if a.pre <= s and a.negpre.isdisjoint(s):
+                    nxt.add((s - a.delete) | a.add)
+        layers.append(nxt)
+    return layers
+
+
+def _holds(lit: int, state: frozenset[int]) -> bool:
+    return (abs(lit) - 1 in state) == (lit > 0)
+
+
+def _check(inv, task: GroundTask, depth: int = 6) -> None:
+    for t, states in enumerate(_layered_states(task, depth)):
+        forced = list(inv.fixed_at(t))
+        runnable = {
+            a.index for s in states for a in task.actions if a.pre <= s and a.negpre.isdisjoint(s)
+        }
+        for j in runnable:
+            assert inv.action_from[j] <= t, f"action {j} runs at step {t}"
+        for s in states:
+            for l1, l2 in inv.binary:
+                assert _holds(l1, s) or _holds(l2, s), f"invariant ({l1}, {l2}) fails at {t}"
+            for lit in forced:
+                assert _holds(lit, s), f"layer literal {lit} fails at step {t}"
+
+
+@SETTINGS
+@given(fam=families())
+def test_family_invariants_hold_in_every_reachable_state_of_every_member(fam: GroundFamily):
+    inv = family_invariants(fam)
+    for sel in all_selections(fam.n_updates):
+        _check(inv, fam.specialize(sel))
+
+
+@SETTINGS
+@given(fam=families(), data=st.data())
+def test_invariants_of_a_fixed_selection_hold_in_that_model(fam: GroundFamily, data):
+    sel = data.draw(selections(fam.n_updates))
+    _check(family_invariants(fam, sel, range(fam.n_updates)), fam.specialize(sel))
+
+
+def test_invariants_find_the_mutexes_of_a_one_place_robot():
+    from mega_sat.family import GroundAction
+
+    # at-a, at-b, at-c; move x->y deletes at-x, adds at-y
+    atoms = (("at", "a"), ("at", "b"), ("at", "c"))
+    acts = []
+    for x in range(3):
+        for y in range(3):
+            if x != y:
+                acts.append(
+                    GroundAction(
+                        "move", (str(x), str(y)), None, ((x, None),), (), ((y, None),),
+                        ((x, None),), (((), 1),),
+                    )
+                )  # fmt: skip
+    fam = GroundFamily(atoms, 0, tuple(acts), ((0, None),), ((2, None),))
+    inv = family_invariants(fam)
+    pairs = {frozenset(b) for b in inv.binary}
+    for p in range(3):
+        for q in range(p + 1, 3):
+            assert frozenset((-(p + 1), -(q + 1))) in pairs  # never at two places
+    assert inv.true_from == (0, 1, 1) and inv.false_from[0] == 1
+
+
+def _random_walk(task: GroundTask, rnd, steps: int):
+    state, plan = set(task.init), []
+    for _ in range(steps):
+        app = [a for a in task.actions if a.pre <= state and a.negpre.isdisjoint(state)]
+        if not app:
+            break
+        a = rnd.choice(app)
+        state = (state - a.delete) | a.add
+        plan.append(a.step)
+    return plan, frozenset(state)
+
+
+@SETTINGS
+@given(fam=families(), data=st.data(), seed=st.integers(0, 10_000), steps=st.integers(0, 12))
+def test_reduce_plan_keeps_a_valid_plan_and_never_costs_more(fam, data, seed, steps):
+    import random
+    from dataclasses import replace
+
+    sel = data.draw(selections(fam.n_updates))
+    task = fam.specialize(sel)
+    plan, end = _random_walk(task, random.Random(seed), steps)
+    goal_task = replace(task, goal=end)  # the walk's end state is a reachable goal
+    cost = plan_cost(goal_task, plan)
+    assert cost is not None
+    reduced, c = reduce_plan(goal_task, plan)
+    assert plan_cost(goal_task, reduced) == c <= cost
+    assert len(reduced) <= len(plan)
+
+
+@SETTINGS
+@given(fam=families())
+def test_dropping_irrelevant_actions_keeps_every_members_optimum(fam: GroundFamily):
+    from dataclasses import replace
+
+    from sat_families import dijkstra
+
+    from mega_sat.invariants import relevant_actions
+
+    rel = relevant_actions(fam)
+    for sel in all_selections(fam.n_updates):
+        task = fam.specialize(sel)
+        pruned = replace(task, actions=tuple(a for a in task.actions if a.index in rel))
+        assert dijkstra(pruned) == dijkstra(task)
