@@ -28,7 +28,7 @@ from mega_sat.abstraction import abstract_task
 from mega_sat.family import GroundFamily
 from mega_sat.pair_reachability import pair_masks
 
-_NEVER = 1 << 30
+NEVER = 1 << 30
 
 
 @dataclass(frozen=True)
@@ -37,7 +37,7 @@ class Invariants:
 
     ``binary``: pairs of state literals ``(±(p+1), ±(q+1))`` (atom ids shifted by one, sign =
     truth), each a clause ``l1 or l2`` over the same step; ``true_from[p]`` / ``false_from[p]``:
-    first step at which ``p`` may be true / false (``_NEVER``: at no step); ``action_from[j]``:
+    first step at which ``p`` may be true / false (``NEVER``: at no step); ``action_from[j]``:
     first step at which family action ``j`` may run.
     """
 
@@ -83,9 +83,9 @@ def family_invariants(
                 continue
             if not (masks[f] >> g) & 1:
                 binary.append((-lit(f), -lit(g)))
-    true_from = tuple(layer[p] if reach[p] else _NEVER for p in range(n))
-    false_from = tuple(layer[n + p] if reach[n + p] else _NEVER for p in range(n))
-    action_from = [_NEVER] * len(family.actions)
+    true_from = tuple(layer[p] if reach[p] else NEVER for p in range(n))
+    false_from = tuple(layer[n + p] if reach[n + p] else NEVER for p in range(n))
+    action_from = [NEVER] * len(family.actions)
     for a in task.actions:
         if all(reach[p] for p in a.pre) and not any(
             not (masks[p] >> q) & 1 for p in a.pre for q in a.pre
@@ -96,7 +96,7 @@ def family_invariants(
 
 def _unit_layers(task) -> list[int]:
     """First step at which each fact of ``task`` is relaxed-reachable (unit costs)."""
-    layer = [_NEVER] * len(task.atoms)
+    layer = [NEVER] * len(task.atoms)
     frontier = list(task.init)
     for p in frontier:
         layer[p] = 0
@@ -109,7 +109,7 @@ def _unit_layers(task) -> list[int]:
         for a in pending:
             if all(layer[p] < t for p in a.pre):
                 for q in a.add:
-                    if layer[q] == _NEVER:
+                    if layer[q] == NEVER:
                         layer[q] = t
                         new.append(q)
             else:
@@ -119,29 +119,35 @@ def _unit_layers(task) -> list[int]:
     return layer
 
 
-def relevant_actions(family: GroundFamily) -> frozenset[int]:
-    """Actions that can matter for reaching the goal in some model of the family.
+def steps_to_goal(family: GroundFamily) -> tuple[int, ...]:
+    """``k[j]``: the fewest steps, counting its own, from action ``j`` to the end of a plan in
+    which ``j`` is needed (``NEVER``: no plan needs ``j``, it is *irrelevant*).
 
-    Backward relevance over the union of every guarded component: goal atoms and the
-    preconditions of relevant actions must be kept true (``keep``), negative preconditions of
-    relevant actions kept false (``avoid``); an action is relevant if it adds a ``keep`` atom
-    or deletes an ``avoid`` atom.  Dropping every other action from a plan leaves a plan of the
-    same model (the ``keep`` atoms it has are a superset, the ``avoid`` atoms a subset of the
-    original's at every step, and the goal is kept) that costs no more, in every model at once,
-    so an encoding without them still has a plan within any cost bounds that had one.
+    Backward layers over the union of every guarded component: the last action of a plan must
+    add a goal atom; an action ``k`` steps from the end must add a kept atom (goal, or
+    precondition of an action ``< k`` steps from the end) or delete an avoided one (negative
+    precondition of such an action).  Removing from a plan, one at a time, every action whose
+    removal leaves it valid in every model it was valid in keeps it valid, no costlier and no
+    longer; in the result each action is needed by a later one or by the goal, so it is within
+    these layers (induction from the end).  So "action ``j`` at step ``t`` of a plan whose goal
+    holds after ``h`` steps" only when ``h - t >= k[j]``.
     """
+    n_act = len(family.actions)
+    k = [NEVER] * n_act
     keep = {p for p, _ in family.goal}
     avoid: set[int] = set()
-    relevant: set[int] = set()
-    changed = True
-    while changed:
-        changed = False
-        for j, a in enumerate(family.actions):
-            if j in relevant:
-                continue
-            if any(p in keep for p, _ in a.add) or any(p in avoid for p, _ in a.delete):
-                relevant.add(j)
-                keep.update(p for p, _ in a.pre)
-                avoid.update(p for p, _ in a.negpre)
-                changed = True
-    return frozenset(relevant)
+    layer = 0
+    while True:
+        layer += 1
+        new = [
+            j
+            for j, a in enumerate(family.actions)
+            if k[j] == NEVER
+            and (any(p in keep for p, _ in a.add) or any(p in avoid for p, _ in a.delete))
+        ]
+        if not new:
+            return tuple(k)
+        for j in new:
+            k[j] = layer
+            keep.update(p for p, _ in family.actions[j].pre)
+            avoid.update(p for p, _ in family.actions[j].negpre)

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 from pysat.card import ITotalizer
 
 from mega_sat.family import GroundFamily, Guard, GuardLit, PlanStep, step_str
-from mega_sat.invariants import Invariants, family_invariants, relevant_actions
+from mega_sat.invariants import NEVER, Invariants, family_invariants, steps_to_goal
 
 HUMAN = "human"
 ROBOT = "robot"
@@ -111,11 +111,10 @@ class FamilyEncoding:
                 fixed = range(family.n_updates) if c == ROBOT else ()
                 sel = family.robot_selection if c == ROBOT else frozenset()
                 self.invariants[c] = family_invariants(family, sel, fixed)
-        # actions no plan needs (backward relevance over every model): never encoded as usable
-        relevant = relevant_actions(family) if invariants else None
-        self.irrelevant = tuple(
-            j for j in range(self.n_actions) if relevant is not None and j not in relevant
-        )
+        # backward layers (mega_sat/invariants.py): no plan needs an action fewer steps before
+        # its goal than its layer; irrelevant actions (no finite layer) are never usable
+        self._to_goal = steps_to_goal(family) if invariants else (1,) * self.n_actions
+        self.irrelevant = tuple(j for j, k in enumerate(self._to_goal) if k >= NEVER)
         # cheapest step of each copy in cost units: "some action runs at t" implies them
         self._min_units = {c: self._copy_min_units(c) for c in self.copies}
         for c in self.copies:
@@ -424,6 +423,10 @@ class FamilyEncoding:
         if g is None:
             g = self._alloc(1) + 1
             self.goal_act[h] = g
+            # no action is needed fewer steps before the goal than its backward layer
+            for j, k in enumerate(self._to_goal):
+                for t in range(max(0, h - k + 1), h) if k < NEVER else ():
+                    self._emit([-g, -self.a(t, j)])
             for c in self.copies:
                 for p, guard in self.family.goal:
                     gv = self._guard(c, guard)

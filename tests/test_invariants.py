@@ -123,10 +123,40 @@ def test_dropping_irrelevant_actions_keeps_every_members_optimum(fam: GroundFami
 
     from sat_families import dijkstra
 
-    from mega_sat.invariants import relevant_actions
+    from mega_sat.invariants import NEVER, steps_to_goal
 
-    rel = relevant_actions(fam)
+    rel = {j for j, k in enumerate(steps_to_goal(fam)) if k < NEVER}
     for sel in all_selections(fam.n_updates):
         task = fam.specialize(sel)
         pruned = replace(task, actions=tuple(a for a in task.actions if a.index in rel))
         assert dijkstra(pruned) == dijkstra(task)
+
+
+def _cheapest_within(task: GroundTask, h: int, allowed) -> int | None:
+    """Cheapest plan of at most ``h`` steps whose goal is checked after step ``h`` (idle tail),
+    using action ``a`` at step ``t`` only if ``allowed(a, t)``."""
+    best = {frozenset(task.init): 0}
+    for t in range(h):
+        nxt = dict(best)  # idle from here on
+        for s, c in best.items():
+            for a in task.actions:
+                if allowed(a, t) and a.pre <= s and a.negpre.isdisjoint(s):
+                    s2 = (s - a.delete) | a.add
+                    if c + a.cost < nxt.get(s2, 1 << 60):
+                        nxt[s2] = c + a.cost
+        best = nxt
+    costs = [c for s, c in best.items() if task.goal <= s]
+    return min(costs, default=None)
+
+
+@SETTINGS
+@given(fam=families(), h=st.integers(0, 5))
+def test_backward_layers_keep_the_cheapest_plan_of_every_length(fam: GroundFamily, h: int):
+    from mega_sat.invariants import steps_to_goal
+
+    k = steps_to_goal(fam)
+    for sel in all_selections(fam.n_updates):
+        task = fam.specialize(sel)
+        full = _cheapest_within(task, h, lambda a, t: True)
+        pruned = _cheapest_within(task, h, lambda a, t: h - t >= k[a.index])
+        assert pruned == full
