@@ -20,10 +20,11 @@ import threading
 import time
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
+from functools import cached_property
 
 from pysat.solvers import Solver
 
-from mega_sat.family import GroundFamily, GroundTask, GuardLit, PlanStep
+from mega_sat.family import GroundFamily, GroundTask, GuardLit, PlanStep, holds
 from mega_sat.plan_reduction import reduce_plan
 from mega_sat.sat_encoding import HUMAN, ROBOT, FamilyEncoding
 
@@ -578,8 +579,67 @@ class SatOracles:
             hints=hints,
             robot_lower_bound=robot_lower_bound,
             plan_lower_bound=plan_lb,
+            human_optimum=human_lower_bound,
             conflict_budget=conflict_budget,
         )
+
+    def _joint_by_dominance(
+        self,
+        lits: list[GuardLit],
+        robot_bound: int,
+        conflict_budget: int | None,
+    ) -> JointResult:
+        """JOINT when no action ever costs the robot less than any model of the family and the
+        robot bound ``K`` is below the proven optimum of ``human + E``.
+
+        Every joint plan then has human cost <= robot cost <= K, so "no plan of cost <= K in
+        ``human + E'``" rules it out.  That is an OPT-style query: the human copy alone (the
+        OPT solver) at the family-wide horizon for cost ``K``, so its selector core holds for
+        every ``E'`` agreeing with it (``encodings/joint-and-cores.md``).  It must be UNSAT
+        (``K < c*``); one copy instead of two and no robot constraints make it much cheaper.
+        """
+        t0 = time.perf_counter()
+        enc, solver = self.opt_enc, self._opt_solver
+        h, exact, reason = self._joint_horizon(None, robot_bound)
+        sel_lits = enc.lits_assumptions(lits)
+        base = enc.cost_assumptions(HUMAN, robot_bound, h) + enc.goal_assumptions(h)
+        ok = self._solve(solver, base + sel_lits, budget=conflict_budget)
+        calls = 1
+        if ok is None:
+            core, status, why = None, "unknown", f"conflict budget {conflict_budget} ran out"
+        elif ok:
+            raise AssertionError("a plan cheaper than the proven human optimum: encoding bug")
+        else:
+            core = self._minimize_core(base, sel_lits, solver.get_core() or [], solver)
+            calls += self._last_core_calls
+            status, why = "infeasible", "robot costs dominate: no human plan within the robot bound"
+        self.stats["sat_joint_by_dominance"] = self.stats.get("sat_joint_by_dominance", 0) + 1
+        return JointResult(
+            status,
+            None,
+            None,
+            None,
+            core,
+            None,
+            exact and status != "unknown",
+            why if exact else reason,
+            h,
+            calls,
+            self._finish("joint", t0),
+        )
+
+    @cached_property
+    def _always_dominates(self) -> bool:
+        """No action the robot model has costs the robot less than in any model of the family
+        (then robot cost >= human cost for every joint plan and every selection)."""
+        robot = self.family.robot_selection
+        for a in self.family.actions:
+            if not holds(a.exists, robot):
+                continue
+            rc = a.cost_in(robot)
+            if any(v > rc for _, v in a.cost):
+                return False
+        return True
 
     def joint_lits(
         self,
@@ -627,8 +687,19 @@ class SatOracles:
         hints: Iterable[Sequence[PlanStep]] = (),
         robot_lower_bound: int | None = None,
         plan_lower_bound: int = 0,
+        human_optimum: int | None = None,
         conflict_budget: int | None = None,
     ) -> JointResult:
+        lits = list(dict.fromkeys(lits))
+        if (
+            robot_bound is not None
+            and human_optimum is not None
+            and max(self._robot_lower_bound(), robot_lower_bound or 0)
+            <= robot_bound
+            < human_optimum
+            and self._always_dominates
+        ):
+            return self._joint_by_dominance(lits, robot_bound, conflict_budget)
         t0 = time.perf_counter()
         enc, solver = self.joint_enc, self._joint_solver
         lits = list(dict.fromkeys(lits))
@@ -769,7 +840,11 @@ class SatOracles:
         return self._robot_lb
 
     def _minimize_core(
-        self, base: list[int], sel_lits: list[int], raw_core: Iterable[int]
+        self,
+        base: list[int],
+        sel_lits: list[int],
+        raw_core: Iterable[int],
+        solver: Solver | None = None,
     ) -> frozenset[GuardLit]:
         """Deletion-based shrinking of the selector part of an UNSAT core.
 
@@ -777,7 +852,7 @@ class SatOracles:
         keeps the (possibly smaller) new core, SAT or budget-out keeps the literal.  At most
         ``core_calls`` calls: the result is always a core, minimal only if the loop finished.
         """
-        solver = self._joint_solver
+        solver = self._joint_solver if solver is None else solver
         in_core = set(raw_core)
         core = [lit for lit in sel_lits if lit in in_core]
         self._last_core_calls = 0

@@ -268,3 +268,52 @@ def test_deadline_interrupts_a_long_call(solver):
         assert time.perf_counter() - t0 < 5
         orc.set_deadline(None)
         assert orc.joint(frozenset(), None, 3).robot_cost == 3
+
+
+def _same_costs(fam: GroundFamily) -> GroundFamily:
+    """``fam`` with every action's cost fixed to its first case (robot costs then dominate)."""
+    from dataclasses import replace
+
+    acts = tuple(replace(a, cost=(((), a.cost[0][1]),)) for a in fam.actions)
+    return replace(fam, actions=acts)
+
+
+@SETTINGS
+@given(fam=families(max_atoms=3, max_actions=5, max_updates=4), data=st.data())
+def test_joint_below_the_human_optimum_under_dominance_has_sound_cores(fam, data):
+    """When robot costs dominate and K < c*(E), JOINT is answered by an OPT-style proof on the
+    human copy alone; its core must still rule out every agreeing selection."""
+    fam = _same_costs(fam)
+    sel = data.draw(selections(fam.n_updates))
+    c_star = dijkstra(fam.specialize(sel))
+    c_robot = dijkstra(fam.specialize(fam.robot_selection))
+    if c_star is None or c_robot is None or c_star <= c_robot:
+        return
+    rb = data.draw(st.integers(c_robot, c_star - 1))
+    hb = data.draw(st.integers(c_star, c_star + 2))
+    with SatOracles(fam) as orc:
+        assert orc._always_dominates
+        r = orc.joint(sel, rb, hb, human_lower_bound=c_star)
+        assert orc.stats.get("sat_joint_by_dominance") == 1
+        assert r.status == "infeasible" and r.exact and joint_brute(fam, sel, rb, hb) is None
+        for other in agreeing(r.core, fam.n_updates):
+            assert joint_brute(fam, other, rb, hb) is None
+        assert orc.joint_lits(r.core, rb, hb).status == "infeasible"
+
+
+def test_joint_by_dominance_on_barman():
+    """barman-bar/p1: the human model restricts the robot's at equal costs; below the human
+    optimum JOINT needs no robot copy, and its core alone is infeasible in the full JOINT."""
+    from pathlib import Path
+
+    from mega_sat.grounding import ground
+    from mega_sat.loading import load_task, resolve_task_dir
+
+    d = Path(__file__).resolve().parent.parent / "domains" / "barman-bar" / "p1"
+    fam = ground(load_task(**resolve_task_dir(d)))
+    with SatOracles(fam) as orc:
+        c = orc.opt(frozenset()).cost
+        r = orc.joint(frozenset(), c - 1, c, human_lower_bound=c)
+        assert r.status == "infeasible" and r.core and orc.stats["sat_joint_by_dominance"] == 1
+        assert orc.joint_lits(r.core, c - 1, c).status == "infeasible"
+        assert orc.joint(frozenset(), c - 1, c).status == "infeasible"  # the two-copy answer
