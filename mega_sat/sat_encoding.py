@@ -25,6 +25,7 @@ from pysat.card import ITotalizer
 
 from mega_sat.family import GroundFamily, Guard, GuardLit, PlanStep, step_str
 from mega_sat.invariants import NEVER, Invariants, family_invariants, steps_to_goal
+from mega_sat.symmetry import Swap, object_swaps
 
 HUMAN = "human"
 ROBOT = "robot"
@@ -69,6 +70,7 @@ class FamilyEncoding:
         symmetry_breaking: bool = True,
         partial_order: bool = False,
         invariants: bool = True,
+        symmetry: bool = True,
     ):
         if (
             not copies
@@ -115,6 +117,14 @@ class FamilyEncoding:
         # its goal than its layer; irrelevant actions (no finite layer) are never usable
         self._to_goal = steps_to_goal(family) if invariants else (1,) * self.n_actions
         self.irrelevant = tuple(j for j, k in enumerate(self._to_goal) if k >= NEVER)
+        # object swaps (mega_sat/symmetry.py): keep only plans pi <=lex swap(pi); lex[s][t]
+        # says "the actions before step t are all fixed by swap s" (exact both ways)
+        self.swaps = object_swaps(family) if symmetry and symmetry_breaking else []
+        self._lex: list[list[int]] = []
+        for _ in self.swaps:
+            v = self._alloc(1) + 1
+            self._lex.append([v])
+            self._emit([v])
         # cheapest step of each copy in cost units: "some action runs at t" implies them
         self._min_units = {c: self._copy_min_units(c) for c in self.copies}
         for c in self.copies:
@@ -321,6 +331,8 @@ class FamilyEncoding:
                 self._emit([-act, self.act[t - 1]])  # no-op steps only at the end
             if self.partial_order:
                 self._ordering(t)
+        for sw, lex in zip(self.swaps, self._lex, strict=True):
+            self._lex_step(sw, lex, a_base)
         new_units: dict[str, list[int]] = {}
         for c in self.copies:
             x1 = self._alloc(self.n_atoms)
@@ -349,6 +361,20 @@ class FamilyEncoding:
             if tot is not None and new_units[c]:
                 tot.extend(lits=new_units[c], top_id=self.top)
                 self._take_totalizer_clauses(tot, tot.nof_new)
+
+    def _lex_step(self, sw: Swap, lex: list[int], a_base: int) -> None:
+        """Lex-leader clauses of one step: while every earlier action was fixed by the swap,
+        the step's action must not be the larger of a swapped pair."""
+        cur = lex[-1]
+        nxt = self._alloc(1) + 1
+        lex.append(nxt)
+        moved = sw.moved
+        self._emit([-nxt, cur])
+        for j in moved:
+            self._emit([-nxt, -(a_base + j + 1)])
+            if sw.action_perm[j] < j:
+                self._emit([-cur, -(a_base + j + 1)])
+        self._emit([-cur, nxt, *(a_base + j + 1 for j in moved)])
 
     def _ordering(self, t: int) -> None:
         """Partial-order reduction: of two adjacent *independent* actions, the one with the

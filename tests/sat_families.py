@@ -162,3 +162,35 @@ def plan_cost(task: GroundTask, plan: Sequence[tuple[str, ...]]) -> int | None:
 
     sim = simulate_ground(task, plan)
     return sim.cost if sim.valid else None
+
+
+@st.composite
+def symmetric_families(draw, **kw) -> GroundFamily:
+    """A random family doubled over two interchangeable objects ``oa`` and ``ob``: each atom is
+    either shared or one copy per object, each action one copy per object, initial state and
+    goal symmetric.  Swapping them maps the family onto itself."""
+    base = draw(families(**kw))
+    per_obj = [draw(st.booleans()) for _ in base.atoms]
+    atoms: list[tuple[str, ...]] = []
+    index: dict[tuple[int, str], int] = {}
+    for i, atom in enumerate(base.atoms):
+        for x in ("oa", "ob") if per_obj[i] else ("",):
+            index[(i, x)] = len(atoms)
+            atoms.append((atom[0], x) if x else atom)
+
+    def lift(entries, x: str):
+        return tuple((index[(p, x if per_obj[p] else "")], g) for p, g in entries)
+
+    def both(entries):
+        return tuple(dict.fromkeys(lift(entries, "oa") + lift(entries, "ob")))
+
+    acts = []
+    for a in base.actions:
+        for x in ("oa", "ob"):
+            acts.append(
+                GroundAction(
+                    a.name, (x,), a.exists, lift(a.pre, x), lift(a.negpre, x), lift(a.add, x),
+                    lift(a.delete, x), a.cost,
+                )
+            )  # fmt: skip
+    return GroundFamily(tuple(atoms), base.n_updates, tuple(acts), both(base.init), both(base.goal))

@@ -42,10 +42,6 @@ ORACLE_FAST = [
     "usar-fetch/p2",
     "usar-fetch/p3",
 ]
-# SAT OPT is checked on every base problem, on the human model, the robot model and a mixed
-# one; on barman-bar/p3 a proof of optimality of the human model takes about a minute, so
-# only its robot model (15 s) is checked there
-SAT_OPT_SKIP_MIXED = {"barman-bar/p3"}
 
 
 def _task(rel: str):
@@ -98,13 +94,12 @@ def test_builtin_equals_fast_downward(rel):
 
 @pytest.mark.parametrize("rel", BASE)
 def test_sat_opt_equals_builtin(rel):
-    """Built-in == Fast Downward on the same models is test_builtin_equals_fast_downward."""
+    """SAT OPT on the human, robot and a mixed model of every base problem.  Built-in == Fast
+    Downward on the same models is test_builtin_equals_fast_downward."""
     task = _task(rel)
     fam = ground(task)
     sat, builtin = NodePlanner(task, fam, "sat"), NodePlanner(task, fam, "builtin")
     sels = [frozenset(), task.all_updates, frozenset(range(1, len(task.delta), 2))]
-    if rel in SAT_OPT_SKIP_MIXED:
-        sels = [task.all_updates]
     for sel in sels:
         a, b = sat.optimal(sel), builtin.optimal(sel)
         assert (a.status, a.cost) == (b.status, b.cost)
