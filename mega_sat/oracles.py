@@ -203,7 +203,7 @@ class SatOracles:
         solver: str = "cadical195",
         horizon_cap: int = 200,
         core_calls: int = 64,
-        core_conflict_budget: int = 20000,
+        core_conflict_budget: int = 5000,
         fallback_node_limit: int = 200000,
         symmetry_breaking: bool = True,
         partial_order: bool = False,
@@ -238,6 +238,8 @@ class SatOracles:
         )
         self._opt_cache: dict[frozenset[int], OptResult] = {}
         self._opt_plans: list[tuple[PlanStep, ...]] = []
+        # (K, core): no selection agreeing with core has a plan of human cost <= K
+        self._cost_cores: list[tuple[int, frozenset[GuardLit]]] = []
         self._robot_lb: int | None = None
         self._tasks: dict[frozenset[int], GroundTask] = {}
         # per-copy minimum action costs for the JOINT horizon: the robot copy always runs in
@@ -601,6 +603,16 @@ class SatOracles:
         t0 = time.perf_counter()
         enc, solver = self.opt_enc, self._opt_solver
         h, exact, reason = self._joint_horizon(None, robot_bound)
+        given = set(lits)
+        for bound, core in self._cost_cores:
+            # "no plan of cost <= bound" for every selection agreeing with core: also <= K
+            if bound >= robot_bound and core <= given:
+                self.stats["sat_joint_core_reused"] = self.stats.get("sat_joint_core_reused", 0) + 1
+                why = "robot costs dominate: an earlier core rules out every human plan this cheap"
+                return JointResult(
+                    "infeasible", None, None, None, core, None, True, why, h, 0,
+                    self._finish("joint", t0),
+                )  # fmt: skip
         sel_lits = enc.lits_assumptions(lits)
         base = enc.cost_assumptions(HUMAN, robot_bound, h) + enc.goal_assumptions(h)
         ok = self._solve(solver, base + sel_lits, budget=conflict_budget)
@@ -613,6 +625,8 @@ class SatOracles:
             core = self._minimize_core(base, sel_lits, solver.get_core() or [], solver)
             calls += self._last_core_calls
             status, why = "infeasible", "robot costs dominate: no human plan within the robot bound"
+            if exact:
+                self._cost_cores.append((robot_bound, core))
         self.stats["sat_joint_by_dominance"] = self.stats.get("sat_joint_by_dominance", 0) + 1
         return JointResult(
             status,

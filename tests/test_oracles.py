@@ -300,6 +300,13 @@ def test_joint_below_the_human_optimum_under_dominance_has_sound_cores(fam, data
         for other in agreeing(r.core, fam.n_updates):
             assert joint_brute(fam, other, rb, hb) is None
         assert orc.joint_lits(r.core, rb, hb).status == "infeasible"
+        # a later call whose selection agrees with the core reuses it without SAT
+        other = data.draw(st.sampled_from(agreeing(r.core, fam.n_updates)))
+        c_other = dijkstra(fam.specialize(other))
+        if c_other is not None and c_other > rb:
+            again = orc.joint(other, rb, c_other, human_lower_bound=c_other)
+            assert again.status == "infeasible" and again.core == r.core and again.calls == 0
+            assert orc.stats["sat_joint_core_reused"] == 1
 
 
 def test_joint_by_dominance_on_barman():
