@@ -151,3 +151,46 @@ def steps_to_goal(family: GroundFamily) -> tuple[int, ...]:
             k[j] = layer
             keep.update(p for p, _ in family.actions[j].pre)
             avoid.update(p for p, _ in family.actions[j].negpre)
+
+
+GuardedPair = tuple[int, int, int]
+"""``(guard, l1, l2)``: the clause ``-guard or l1 or l2``, ``guard`` a selector literal
+(``i+1`` for "update i selected", ``-(i+1)`` for "not selected")."""
+
+
+def guarded_mutexes(
+    family: GroundFamily, base: Invariants, max_updates: int = 64
+) -> tuple[GuardedPair, ...]:
+    """Mutexes that hold in every model with one update fixed (``i`` selected or not) and are
+    not already in ``base``, as clauses guarded by that selector literal.  Valid for every
+    selection (the guard is false in the others), so UNSAT cores over selectors stay sound.
+    Skipped above ``max_updates`` updates (two h^2 computations per update)."""
+    if family.n_updates > max_updates:
+        return ()
+    have = set(base.binary)
+    out: list[GuardedPair] = []
+    for i in range(family.n_updates):
+        for v in (False, True):
+            sel = frozenset([i]) if v else frozenset()
+            inv = family_invariants(family, sel, [i])
+            guard = i + 1 if v else -(i + 1)
+            out.extend((guard, l1, l2) for l1, l2 in inv.binary if (l1, l2) not in have)
+    return tuple(out)
+
+
+@dataclass(frozen=True)
+class EncodingFacts:
+    """Everything the encoding adds beyond the plain clause schemas, computed once per family
+    (both oracle encodings share it): invariants per state copy, guarded mutexes of the human
+    copy, and the backward layers."""
+
+    human: Invariants
+    robot: Invariants
+    guarded: tuple[GuardedPair, ...]
+    to_goal: tuple[int, ...]
+
+
+def encoding_facts(family: GroundFamily) -> EncodingFacts:
+    human = family_invariants(family)
+    robot = family_invariants(family, family.robot_selection, range(family.n_updates))
+    return EncodingFacts(human, robot, guarded_mutexes(family, human), steps_to_goal(family))

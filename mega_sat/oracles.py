@@ -25,6 +25,7 @@ from functools import cached_property
 from pysat.solvers import Solver
 
 from mega_sat.family import GroundFamily, GroundTask, GuardLit, PlanStep, holds
+from mega_sat.invariants import encoding_facts
 from mega_sat.plan_reduction import reduce_plan
 from mega_sat.sat_encoding import HUMAN, ROBOT, FamilyEncoding
 
@@ -220,6 +221,7 @@ class SatOracles:
         self.c_min = family.min_cost
         # JOINT horizon when zero-cost actions make cost bounds useless for plan length
         self._zero_cost_horizon = min(horizon_cap, 2 * len(family.atoms) + 1)
+        facts = encoding_facts(family)  # invariants etc., shared by both encodings
         self._opt_solver = Solver(name=solver)
         self._joint_solver = Solver(name=solver)
         self.opt_enc = FamilyEncoding(
@@ -228,6 +230,7 @@ class SatOracles:
             copies=(HUMAN,),
             symmetry_breaking=symmetry_breaking,
             partial_order=partial_order,
+            invariants=facts,
         )
         self.joint_enc = FamilyEncoding(
             family,
@@ -235,6 +238,7 @@ class SatOracles:
             copies=(HUMAN, ROBOT),
             symmetry_breaking=symmetry_breaking,
             partial_order=partial_order,
+            invariants=facts,
         )
         self._opt_cache: dict[frozenset[int], OptResult] = {}
         self._opt_plans: list[tuple[PlanStep, ...]] = []

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 from pysat.card import ITotalizer
 
 from mega_sat.family import GroundFamily, Guard, GuardLit, PlanStep, step_str
-from mega_sat.invariants import NEVER, Invariants, family_invariants, steps_to_goal
+from mega_sat.invariants import NEVER, EncodingFacts, Invariants, encoding_facts
 from mega_sat.symmetry import Swap, object_swaps
 
 HUMAN = "human"
@@ -69,7 +69,7 @@ class FamilyEncoding:
         copies: Sequence[str] = (HUMAN,),
         symmetry_breaking: bool = True,
         partial_order: bool = False,
-        invariants: bool = True,
+        invariants: bool | EncodingFacts = True,
         symmetry: bool = True,
     ):
         if (
@@ -107,15 +107,18 @@ class FamilyEncoding:
             self._prepare_ordering()
         # redundant clauses valid in every reachable state (mega_sat/invariants.py): the human
         # copy's hold for every selection, the robot copy's for the robot model
+        # (``invariants`` may be precomputed facts, shared by several encodings of one family)
+        facts = invariants if isinstance(invariants, EncodingFacts) else None
+        if facts is None and invariants:
+            facts = encoding_facts(family)
+        self.facts = facts
         self.invariants: dict[str, Invariants] = {}
-        if invariants:
+        if facts is not None:
             for c in self.copies:
-                fixed = range(family.n_updates) if c == ROBOT else ()
-                sel = family.robot_selection if c == ROBOT else frozenset()
-                self.invariants[c] = family_invariants(family, sel, fixed)
+                self.invariants[c] = facts.robot if c == ROBOT else facts.human
         # backward layers (mega_sat/invariants.py): no plan needs an action fewer steps before
         # its goal than its layer; irrelevant actions (no finite layer) are never usable
-        self._to_goal = steps_to_goal(family) if invariants else (1,) * self.n_actions
+        self._to_goal = facts.to_goal if facts is not None else (1,) * self.n_actions
         self.irrelevant = tuple(j for j, k in enumerate(self._to_goal) if k >= NEVER)
         # object swaps (mega_sat/symmetry.py): keep only plans pi <=lex swap(pi); lex[s][t]
         # says "the actions before step t are all fixed by swap s" (exact both ways)
@@ -351,6 +354,9 @@ class FamilyEncoding:
                     self._emit([_state_lit(x1, l1), _state_lit(x1, l2)])
                 for lit in inv.fixed_at(t + 1):
                     self._emit([_state_lit(x1, lit)])
+            if c == HUMAN and self.facts is not None:
+                for g, l1, l2 in self.facts.guarded:
+                    self._emit([-g, _state_lit(x1, l1), _state_lit(x1, l2)])
         off = {
             j for inv in self.invariants.values() for j, f in enumerate(inv.action_from) if f > t
         }

@@ -160,3 +160,18 @@ def test_backward_layers_keep_the_cheapest_plan_of_every_length(fam: GroundFamil
         full = _cheapest_within(task, h, lambda a, t: True)
         pruned = _cheapest_within(task, h, lambda a, t: h - t >= k[a.index])
         assert pruned == full
+
+
+@SETTINGS
+@given(fam=families())
+def test_guarded_mutexes_hold_in_every_member_where_their_guard_holds(fam: GroundFamily):
+    from mega_sat.invariants import encoding_facts
+
+    facts = encoding_facts(fam)
+    for sel in all_selections(fam.n_updates):
+        task = fam.specialize(sel)
+        active = [(l1, l2) for g, l1, l2 in facts.guarded if ((abs(g) - 1) in sel) == (g > 0)]
+        for states in _layered_states(task, 6):
+            for s in states:
+                for l1, l2 in active:
+                    assert _holds(l1, s) or _holds(l2, s)
