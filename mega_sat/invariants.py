@@ -75,14 +75,20 @@ def family_invariants(
         return f + 1 if f < n else -(f - n + 1)
 
     binary: list[tuple[int, int]] = []
+    usable = 0  # reachable facts of atoms that can change
     for f in range(2 * n):
-        if not reach[f] or not changing[f % n]:
+        if reach[f] and changing[f % n]:
+            usable |= 1 << f
+    for f in range(2 * n):
+        if not (usable >> f) & 1:
             continue
-        for g in range(f + 1, 2 * n):
-            if g % n == f % n or not reach[g] or not changing[g % n]:
-                continue
-            if not (masks[f] >> g) & 1:
-                binary.append((-lit(f), -lit(g)))
+        # partners g > f, not the same atom, never reachable together with f
+        other = usable & ~masks[f] & ~((1 << (f + 1)) - 1) & ~(1 << ((f + n) % (2 * n)))
+        while other:
+            low = other & -other
+            g = low.bit_length() - 1
+            binary.append((-lit(f), -lit(g)))
+            other ^= low
     true_from = tuple(layer[p] if reach[p] else NEVER for p in range(n))
     false_from = tuple(layer[n + p] if reach[n + p] else NEVER for p in range(n))
     action_from = [NEVER] * len(family.actions)

@@ -25,7 +25,7 @@ from functools import cached_property
 from pysat.solvers import Solver
 
 from mega_sat.family import GroundFamily, GroundTask, GuardLit, PlanStep, holds
-from mega_sat.invariants import encoding_facts
+from mega_sat.invariants import EncodingFacts, encoding_facts
 from mega_sat.plan_reduction import reduce_plan
 from mega_sat.sat_encoding import HUMAN, ROBOT, FamilyEncoding
 
@@ -221,7 +221,7 @@ class SatOracles:
         self.c_min = family.min_cost
         # JOINT horizon when zero-cost actions make cost bounds useless for plan length
         self._zero_cost_horizon = min(horizon_cap, 2 * len(family.atoms) + 1)
-        facts = encoding_facts(family)  # invariants etc., shared by both encodings
+        self._shared_facts: EncodingFacts | None = None
         self._opt_solver = Solver(name=solver)
         self._joint_solver = Solver(name=solver)
         self.opt_enc = FamilyEncoding(
@@ -230,7 +230,7 @@ class SatOracles:
             copies=(HUMAN,),
             symmetry_breaking=symmetry_breaking,
             partial_order=partial_order,
-            invariants=facts,
+            invariants=self._facts,
         )
         self.joint_enc = FamilyEncoding(
             family,
@@ -238,7 +238,7 @@ class SatOracles:
             copies=(HUMAN, ROBOT),
             symmetry_breaking=symmetry_breaking,
             partial_order=partial_order,
-            invariants=facts,
+            invariants=self._facts,
         )
         self._opt_cache: dict[frozenset[int], OptResult] = {}
         self._opt_plans: list[tuple[PlanStep, ...]] = []
@@ -275,6 +275,14 @@ class SatOracles:
             "sat_max_call_time_s": 0.0,
         }
         self._update_size_stats()
+
+    def _facts(self) -> EncodingFacts:
+        """Invariants and layers of the family, computed once for both encodings, on demand."""
+        if self._shared_facts is None:
+            t0 = time.perf_counter()
+            self._shared_facts = encoding_facts(self.family)
+            self.stats["sat_facts_time_s"] = time.perf_counter() - t0
+        return self._shared_facts
 
     # ------------------------------------------------------------ plumbing
     def close(self) -> None:

@@ -69,7 +69,7 @@ class FamilyEncoding:
         copies: Sequence[str] = (HUMAN,),
         symmetry_breaking: bool = True,
         partial_order: bool = False,
-        invariants: bool | EncodingFacts = True,
+        invariants: bool | EncodingFacts | Callable[[], EncodingFacts] = True,
         symmetry: bool = True,
     ):
         if (
@@ -107,19 +107,14 @@ class FamilyEncoding:
             self._prepare_ordering()
         # redundant clauses valid in every reachable state (mega_sat/invariants.py): the human
         # copy's hold for every selection, the robot copy's for the robot model
-        # (``invariants`` may be precomputed facts, shared by several encodings of one family)
-        facts = invariants if isinstance(invariants, EncodingFacts) else None
-        if facts is None and invariants:
-            facts = encoding_facts(family)
-        self.facts = facts
+        # computed when the first step is encoded (many tasks never need a SAT call); may be
+        # given precomputed, or as a function, to share them between encodings of one family
+        self._facts_source = invariants
+        self._facts_ready = False
+        self.facts: EncodingFacts | None = None
         self.invariants: dict[str, Invariants] = {}
-        if facts is not None:
-            for c in self.copies:
-                self.invariants[c] = facts.robot if c == ROBOT else facts.human
-        # backward layers (mega_sat/invariants.py): no plan needs an action fewer steps before
-        # its goal than its layer; irrelevant actions (no finite layer) are never usable
-        self._to_goal = facts.to_goal if facts is not None else (1,) * self.n_actions
-        self.irrelevant = tuple(j for j, k in enumerate(self._to_goal) if k >= NEVER)
+        self._to_goal: tuple[int, ...] = (1,) * self.n_actions
+        self.irrelevant: tuple[int, ...] = ()
         # object swaps (mega_sat/symmetry.py): keep only plans pi <=lex swap(pi); lex[s][t]
         # says "the actions before step t are all fixed by swap s" (exact both ways)
         self.swaps = object_swaps(family) if symmetry and symmetry_breaking else []
@@ -176,6 +171,28 @@ class FamilyEncoding:
     def u(self, copy: str, t: int, k: int) -> int:
         """Cost unit ``k`` (1-based) of step ``t``: "step t costs at least k units"."""
         return self.u_base[copy][t] + k
+
+    def _ensure_facts(self) -> None:
+        """Compute (or fetch) the invariants, guarded mutexes and backward layers once."""
+        if self._facts_ready:
+            return
+        self._facts_ready = True
+        src = self._facts_source
+        if isinstance(src, EncodingFacts):
+            facts = src
+        elif callable(src):
+            facts = src()
+        else:
+            facts = encoding_facts(self.family) if src else None
+        self.facts = facts
+        if facts is None:
+            return
+        for c in self.copies:
+            self.invariants[c] = facts.robot if c == ROBOT else facts.human
+        # backward layers (mega_sat/invariants.py): no plan needs an action fewer steps before
+        # its goal than its layer; irrelevant actions (no finite layer) are never usable
+        self._to_goal = facts.to_goal
+        self.irrelevant = tuple(j for j, k in enumerate(self._to_goal) if k >= NEVER)
 
     def _copy_min_units(self, copy: str) -> int:
         """Cost units every action usable in ``copy`` costs at least (0 with zero costs)."""
@@ -303,6 +320,7 @@ class FamilyEncoding:
             self._add_step()
 
     def _add_step(self) -> None:
+        self._ensure_facts()
         t = self.horizon
         n = self.n_actions
         a_base = self._alloc(n)
