@@ -459,6 +459,12 @@ class SatOracles:
         lb_steps, lb_cost = bounds
         if lb_steps == 0:
             return done("optimal", 0, (), True, "goal holds initially")
+        # an earlier core "no plan of cost <= K" that this selection agrees with
+        lits = {(i, i in sel) for i in range(self.family.n_updates)}
+        core_lb = max((k + 1 for k, core in self._cost_cores if core <= lits), default=0)
+        why_lb = "meets the relaxed lower bound"
+        if core_lb > lb_cost:
+            lb_cost, why_lb = core_lb, "meets the lower bound of an earlier core"
         sel_lits = enc.selection_assumptions(sel)
 
         # (2) first plan: the cheapest earlier optimal plan valid here, else double the horizon
@@ -480,7 +486,7 @@ class SatOracles:
         # (3) descend: cost <= best - 1 until UNSAT
         while True:
             if best <= lb_cost:
-                return done("optimal", best, plan, True, "meets the relaxed lower bound")
+                return done("optimal", best, plan, True, why_lb)
             h, exact, reason = self._opt_horizon(sel, best - 1, at_least=len(plan))
             if exact and h < lb_steps:
                 return done(

@@ -300,6 +300,9 @@ def test_joint_below_the_human_optimum_under_dominance_has_sound_cores(fam, data
         for other in agreeing(r.core, fam.n_updates):
             assert joint_brute(fam, other, rb, hb) is None
         assert orc.joint_lits(r.core, rb, hb).status == "infeasible"
+        # OPT of every agreeing selection may use the core's lower bound: still exact
+        for o in agreeing(r.core, fam.n_updates):
+            check_opt(fam, orc, o)
         # a later call whose selection agrees with the core reuses it without SAT
         other = data.draw(st.sampled_from(agreeing(r.core, fam.n_updates)))
         c_other = dijkstra(fam.specialize(other))
