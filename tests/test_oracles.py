@@ -352,3 +352,15 @@ def test_symmetry_breaking_keeps_opt_and_joint_exact(fam: GroundFamily, data):
                 assert joint_brute(fam, other, rb, hb) is None
         else:
             assert r.status == "plan" and r.robot_cost == best
+
+
+@SETTINGS
+@given(fam=families(), data=st.data())
+def test_opt_with_the_exact_extra_cost_horizon_stays_exact(fam: GroundFamily, data):
+    """``opt_probe_budget=0`` sends every final proof through the explicit lower bound on the
+    cost above ``N * c_min`` (a shorter horizon); costs must still be the optimum."""
+    with SatOracles(fam, opt_probe_budget=0) as orc:
+        for _ in range(3):
+            r = check_opt(fam, orc, data.draw(selections(fam.n_updates)))
+            if r.status == "optimal" and r.cost and fam.min_cost > 0:
+                assert r.exact
