@@ -105,10 +105,10 @@ class FamilyEncoding:
         self.partial_order = partial_order and symmetry_breaking
         if self.partial_order:
             self._prepare_ordering()
-        # redundant clauses valid in every reachable state (mega_sat/invariants.py): the human
-        # copy's hold for every selection, the robot copy's for the robot model
-        # computed when the first step is encoded (many tasks never need a SAT call); may be
-        # given precomputed, or as a function, to share them between encodings of one family
+        # redundant clauses (mega_sat/invariants.py; the human copy's hold for every selection,
+        # the robot copy's for the robot model), computed when the first step is encoded (many
+        # tasks never need a SAT call); ``invariants`` may be the facts themselves or a function
+        # returning them, so that the encodings of one family share one computation
         self._facts_source = invariants
         self._facts_ready = False
         self.facts: EncodingFacts | None = None
