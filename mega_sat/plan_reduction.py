@@ -12,20 +12,12 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from mega_sat.family import GroundTask, PlanStep
+from mega_sat.simulate import simulate_ground
 
 
 def _cost_if_valid(task: GroundTask, plan: Sequence[PlanStep]) -> int | None:
-    by_step = task.by_step
-    state = set(task.init)
-    cost = 0
-    for step in plan:
-        a = by_step.get(step)
-        if a is None or not a.pre <= state or not a.negpre.isdisjoint(state):
-            return None
-        state -= a.delete
-        state |= a.add
-        cost += a.cost
-    return cost if task.goal <= state else None
+    sim = simulate_ground(task, plan)
+    return sim.cost if sim.valid else None
 
 
 def _drop_from(task: GroundTask, plan: Sequence[PlanStep], i: int) -> list[PlanStep]:
@@ -38,9 +30,7 @@ def _drop_from(task: GroundTask, plan: Sequence[PlanStep], i: int) -> list[PlanS
             continue
         a = by_step.get(step)
         if a is None or not a.pre <= state or not a.negpre.isdisjoint(state):
-            if k < i:
-                return list(plan)  # the prefix is unchanged, so this cannot happen
-            continue
+            continue  # only after step i: the prefix of a valid plan stays applicable
         state -= a.delete
         state |= a.add
         out.append(step)
