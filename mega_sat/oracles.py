@@ -24,12 +24,15 @@ from functools import cached_property
 
 from pysat.solvers import Solver
 
+from mega_sat.abstraction import abstract_task
 from mega_sat.family import GroundFamily, GroundTask, GuardLit, PlanStep, holds
 from mega_sat.invariants import EncodingFacts, encoding_facts
+from mega_sat.operator_counting import operator_counting_bound
 from mega_sat.plan_reduction import reduce_plan
 from mega_sat.sat_encoding import HUMAN, ROBOT, FamilyEncoding
 
 _INF = float("inf")
+_BIG = 1 << 40  # a cost bound above any plan's cost (a core ruling out every plan)
 
 
 class OracleInterrupted(Exception):  # noqa: N818 - the name says what happened
@@ -116,16 +119,22 @@ def extra_cost_bound(task: GroundTask, c_min: int) -> int:
     return 0 if h == _INF else int(h)
 
 
-def extra_cost_exact(task: GroundTask, c_min: int, node_limit: int) -> int:
+def extra_cost_search(
+    task: GroundTask, c_min: int, node_limit: int
+) -> tuple[int, tuple[PlanStep, ...] | None]:
     """:func:`extra_cost_bound`, made exact by an explicit optimal search under the lowered
-    costs when it finishes within ``node_limit`` expansions (else the LM-cut estimate)."""
+    costs when it finishes within ``node_limit`` expansions (else the LM-cut estimate), and
+    the plan that search found (``None`` if it ran out).
+
+    The plan is a valid plan of ``task`` with the fewest cost units above ``c_min`` per step;
+    on barman-bar it is an optimal plan of every model, so OPT starts its descent there."""
     from dataclasses import replace
 
     from mega_sat.search import astar
 
     lm = extra_cost_bound(task, c_min)
     if c_min <= 0 or task.goal <= task.init or node_limit <= 0:
-        return lm
+        return lm, None
     low = GroundTask(
         task.atoms,
         tuple(replace(a, cost=a.cost - c_min) for a in task.actions),
@@ -134,8 +143,13 @@ def extra_cost_exact(task: GroundTask, c_min: int, node_limit: int) -> int:
     )
     r = astar(low, heuristic="blind", node_limit=node_limit)
     if r.status == "optimal" and r.cost is not None:
-        return max(lm, int(r.cost))
-    return lm
+        return max(lm, int(r.cost)), tuple(r.plan)
+    return lm, None
+
+
+def extra_cost_exact(task: GroundTask, c_min: int, node_limit: int) -> int:
+    """The exact (or LM-cut) extra cost of :func:`extra_cost_search`."""
+    return extra_cost_search(task, c_min, node_limit)[0]
 
 
 def family_relaxation(family: GroundFamily) -> GroundTask:
@@ -196,7 +210,12 @@ class SatOracles:
     ``extra_node_limit`` bounds the explicit search that makes the robot copy's step bound
     exact (:func:`extra_cost_exact`); an OPT proof that is still undecided after
     ``opt_probe_budget`` conflicts gets the same search for its selection, with
-    ``opt_extra_node_limit`` expansions, to shorten its horizon.
+    ``opt_extra_node_limit`` expansions, to shorten its horizon (on tasks with several action
+    costs the search runs first, and its plan is OPT's first upper bound);
+    ``operator_counting`` enables the integer-program lower bounds of
+    :mod:`mega_sat.operator_counting` (CBC, ``counting_time_limit`` seconds each) for OPT and
+    for JOINT's cores; ``dominance_conflict_budget`` caps the conflicts spent shrinking one
+    core below the human optimum (:meth:`_joint_by_dominance`).
     """
 
     def __init__(
@@ -207,6 +226,7 @@ class SatOracles:
         horizon_cap: int = 200,
         core_calls: int = 64,
         core_conflict_budget: int = 5000,
+        dominance_conflict_budget: int = 3000,
         fallback_node_limit: int = 200000,
         symmetry_breaking: bool = True,
         partial_order: bool = False,
@@ -214,6 +234,8 @@ class SatOracles:
         extra_node_limit: int = 10000,
         opt_probe_budget: int = 3000,
         opt_extra_node_limit: int = 20000,
+        operator_counting: bool = True,
+        counting_time_limit: float = 2.0,
     ):
         t0 = time.perf_counter()
         self.family = family
@@ -221,6 +243,7 @@ class SatOracles:
         self.horizon_cap = horizon_cap
         self.core_calls = core_calls
         self.core_conflict_budget = core_conflict_budget
+        self.dominance_conflict_budget = dominance_conflict_budget
         self.fallback_node_limit = fallback_node_limit
         self.c_min = family.min_cost
         # JOINT horizon when zero-cost actions make cost bounds useless for plan length
@@ -262,8 +285,17 @@ class SatOracles:
         self.extra_human = extra_cost_bound(family_relaxation(family), self.c_min)
         self._opt_extra: dict[frozenset[int], tuple[int, int]] = {}
         self._opt_extra_searched: set[frozenset[int]] = set()
+        self._searches_hit = 0
+        self._searches_missed = 0
         self.opt_probe_budget = opt_probe_budget
         self.opt_extra_node_limit = opt_extra_node_limit
+        # operator-counting bounds per partial assignment; switched off for the task once
+        # they have been tried a few times without ever beating the cheaper bounds
+        self.operator_counting = operator_counting
+        self.counting_time_limit = counting_time_limit
+        self._counting: dict[frozenset[GuardLit], float | None] = {}
+        self._counting_tries = 0
+        self._counting_gains = 0
         # interruption: a flag checked between conflict-budget chunks (CaDiCaL holds the GIL
         # and has no native interrupt in pysat), plus the native interrupt where supported
         self._interrupted = False
@@ -396,16 +428,31 @@ class SatOracles:
         need = max((bound - extra) // c, 0)
         return self._capped(need, bound)
 
-    def _tighten_extra(self, sel: frozenset[int]) -> None:
+    def _tighten_extra(self, sel: frozenset[int]) -> tuple[PlanStep, ...] | None:
         """Replace the LM-cut estimate of :meth:`_opt_horizon` by the exact optimum under the
         lowered costs when an explicit search finds it within ``opt_extra_node_limit``
-        expansions (:func:`extra_cost_exact`).  barman-bar/p3's human model: 2 -> 7 in 14,089
-        expansions, so the proof runs at 23 steps instead of 28.  Once per selection."""
+        expansions (:func:`extra_cost_search`), and return the plan it found.  barman-bar/p3's
+        human model: 2 -> 7 in 14,089 expansions, so the proof runs at 23 steps instead of 28.
+        Once per selection."""
+        self._opt_horizon(sel, 0)  # makes sure the LM-cut estimate is there
         self._opt_extra_searched.add(sel)
         c, extra = self._opt_extra[sel]
-        if c > 0:
-            x = extra_cost_exact(self.task(sel), c, self.opt_extra_node_limit)
-            self._opt_extra[sel] = (c, max(extra, x))
+        if c <= 0:
+            return None
+        x, plan = extra_cost_search(self.task(sel), c, self.opt_extra_node_limit)
+        self._opt_extra[sel] = (c, max(extra, x))
+        self._searches_hit += plan is not None
+        self._searches_missed += plan is None
+        return plan
+
+    def _search_first(self, task: GroundTask) -> bool:
+        """Whether OPT runs the lowered-cost search before any SAT call: only with more than
+        one action cost (else the lowered costs are all zero), and not once most searches on
+        this task have run out of expansions (rover-martian/p3: every one but the first)."""
+        costs = {a.cost for a in task.actions}
+        if len(costs) < 2 or min(costs) <= 0:
+            return False
+        return self._searches_missed < 2 or self._searches_missed <= self._searches_hit
 
     def _solve(self, solver: Solver, assumptions: list[int], budget: int | None = None):
         """One SAT call: ``True``/``False``, or ``None`` if ``budget`` conflicts ran out.
@@ -448,7 +495,9 @@ class SatOracles:
         """Optimal cost and plan of ``human + selection``.
 
         (1) relaxed reachability proves unsolvability and gives step/cost lower bounds;
-        (2) a first plan by doubling the horizon from the step lower bound (cost unbounded);
+        (2) a first plan: an earlier optimal plan, the lowered-cost search's plan, else SAT
+        with a horizon doubling from the step lower bound (cost unbounded); the
+        operator-counting bound may prove it optimal at once;
         (3) linear descent: with best simulated cost ``C`` ask for cost ``<= C - 1`` at the
         horizon that makes the answer exact, until UNSAT (or the relaxed lower bound is met).
         """
@@ -485,9 +534,27 @@ class SatOracles:
             lb_cost, why_lb = core_lb, "meets the lower bound of an earlier core"
         sel_lits = enc.selection_assumptions(sel)
 
-        # (2) first plan: the cheapest earlier optimal plan valid here, else double the horizon
-        # (no cost bound) until SAT or the cap; every plan is shortened by action elimination
-        plan = self._known_plan(task)
+        # (2) a first plan and lower bounds, cheapest first: the cheapest earlier optimal plan
+        # valid here; the operator-counting bound; the lowered-cost search (exact extra cost
+        # for the horizon, and its plan); else SAT with a doubling horizon and no cost bound.
+        # Every plan is shortened by action elimination.
+        plan, best = self._known_plan(task), None
+        if plan is not None:
+            plan, best = reduce_plan(task, plan)
+        if best is None or best > lb_cost:
+            got = self._counting_bound(lits, above=lb_cost)
+            if got is not None and got > lb_cost:
+                if got == _INF:
+                    assert best is None, "operator counting found no plan, but there is one: bug"
+                    return done("unsolvable", None, None, True, "operator counting: no plan")
+                assert best is None or got <= best, "operator-counting bound above a plan's cost"
+                lb_cost, why_lb = int(got), "meets the operator-counting lower bound"
+        if (best is None or best > lb_cost) and self._search_first(task):
+            found = self._tighten_extra(sel)
+            if found is not None:
+                found, cost = reduce_plan(task, found)
+                if best is None or cost < best:
+                    plan, best = found, cost
         h = min(max(lb_steps, 1), self.horizon_cap)
         while plan is None:
             calls += 1
@@ -499,7 +566,8 @@ class SatOracles:
             h = min(2 * h, self.horizon_cap)
         if plan is None:
             return self._opt_fallback(task, calls, t0)
-        plan, best = reduce_plan(task, plan)
+        if best is None:
+            plan, best = reduce_plan(task, plan)
 
         # (3) descend: cost <= best - 1 until UNSAT
         while True:
@@ -513,11 +581,16 @@ class SatOracles:
             cost_lits = enc.cost_assumptions(HUMAN, best - 1, h)
             assert cost_lits is not None
             calls += 1
-            budget = self.opt_probe_budget if sel not in self._opt_extra_searched else None
+            probe = sel not in self._opt_extra_searched and self._search_first(task)
+            budget = self.opt_probe_budget if probe else None
             ok = self._solve(solver, sel_lits + enc.goal_assumptions(h) + cost_lits, budget)
             if ok is None:
                 # a hard query: an exact lower bound on the cost above N * c may shorten it
-                self._tighten_extra(sel)
+                found = self._tighten_extra(sel)
+                if found is not None:
+                    found, cost = reduce_plan(task, found)
+                    if cost < best:
+                        plan, best = found, cost
                 continue
             if not ok:
                 return done("optimal", best, plan, exact, reason or "proven by SAT")
@@ -525,6 +598,32 @@ class SatOracles:
             cost = _simulate_cost(task, plan)
             assert cost is not None and cost < best, "decoded plan invalid or not cheaper"
             plan, best = reduce_plan(task, plan)
+
+    def _counting_bound(self, lits: Iterable[GuardLit], above: float) -> float | None:
+        """Operator-counting lower bound (:mod:`mega_sat.operator_counting`) on the cost of
+        every plan of every ``human + E'`` agreeing with ``lits`` (their two-fact abstraction),
+        cached per partial assignment; ``None`` when unknown or switched off.
+
+        It is switched off for the task after four bounds none of which was above the bound
+        the caller already had (``above``): on barman the integer program stays at 10 while
+        plans cost 21-31, and each try would only cost time."""
+        key = frozenset(lits)
+        if key in self._counting:
+            return self._counting[key]
+        if not self.operator_counting or (self._counting_tries >= 4 and not self._counting_gains):
+            return None
+        t0 = time.perf_counter()
+        sel = frozenset(i for i, v in key if v)
+        task = abstract_task(self.family, sel, [i for i, _ in key])
+        got = operator_counting_bound(task, time_limit=self.counting_time_limit)
+        self._counting[key] = got
+        self._counting_tries += 1
+        self._counting_gains += got is not None and got > above
+        self.stats["sat_counting_calls"] = self.stats.get("sat_counting_calls", 0) + 1
+        self.stats["sat_counting_time_s"] = (
+            self.stats.get("sat_counting_time_s", 0.0) + time.perf_counter() - t0
+        )
+        return got
 
     def _known_plan(self, task: GroundTask) -> tuple[PlanStep, ...] | None:
         """The cheapest plan of an earlier OPT answer that is valid in ``task`` (an upper
@@ -637,52 +736,69 @@ class SatOracles:
         robot bound ``K`` is below the proven optimum of ``human + E``.
 
         Every joint plan then has human cost <= robot cost <= K, so "no plan of cost <= K in
-        ``human + E'``" rules it out.  That is an OPT-style query: the human copy alone (the
-        OPT solver) at the family-wide horizon for cost ``K``, so its selector core holds for
-        every ``E'`` agreeing with it (``encodings/joint-and-cores.md``).  It must be UNSAT
-        (``K < c*``); one copy instead of two and no robot constraints make it much cheaper.
+        ``human + E'``" rules it out; for ``E`` itself that is proven already (``K < c*``), so
+        the full assignment is a core and the work is to shrink it to one that generalizes
+        (``encodings/joint-and-cores.md``), cheapest argument first:
+
+        1. an earlier core "no plan of cost <= K' (>= K)" that ``E`` agrees with (no solving);
+        2. operator counting on the abstraction of a partial assignment: a lower bound above
+           ``K`` needs no horizon (:mod:`mega_sat.operator_counting`);
+        3. deletion on the OPT solver (the human copy alone) at the family-wide horizon for
+           cost ``K``, each call capped at ``core_conflict_budget`` conflicts and all of them
+           together at ``dominance_conflict_budget`` (``conflict_budget`` if smaller).
         """
         t0 = time.perf_counter()
-        enc, solver = self.opt_enc, self._opt_solver
         h, exact, reason = self._joint_horizon(None, robot_bound)
+        self.stats["sat_joint_by_dominance"] = self.stats.get("sat_joint_by_dominance", 0) + 1
+
+        def done(core: frozenset[GuardLit], why: str, calls: int) -> JointResult:
+            return JointResult(
+                "infeasible", None, None, None, core, None, True, why, h, calls,
+                self._finish("joint", t0),
+            )  # fmt: skip
+
         given = set(lits)
         for bound, core in self._cost_cores:
             # "no plan of cost <= bound" for every selection agreeing with core: also <= K
             if bound >= robot_bound and core <= given:
                 self.stats["sat_joint_core_reused"] = self.stats.get("sat_joint_core_reused", 0) + 1
-                why = "robot costs dominate: an earlier core rules out every human plan this cheap"
-                return JointResult(
-                    "infeasible", None, None, None, core, None, True, why, h, 0,
-                    self._finish("joint", t0),
+                return done(
+                    core, "robot costs dominate: an earlier core rules out every human plan "
+                    "this cheap", 0,
                 )  # fmt: skip
-        sel_lits = enc.lits_assumptions(lits)
-        base = enc.cost_assumptions(HUMAN, robot_bound, h) + enc.goal_assumptions(h)
-        ok = self._solve(solver, base + sel_lits, budget=conflict_budget)
-        calls = 1
-        if ok is None:
-            core, status, why = None, "unknown", f"conflict budget {conflict_budget} ran out"
-        elif ok:
-            raise AssertionError("a plan cheaper than the proven human optimum: encoding bug")
-        else:
-            core = self._minimize_core(base, sel_lits, solver.get_core() or [], solver)
-            calls += self._last_core_calls
-            status, why = "infeasible", "robot costs dominate: no human plan within the robot bound"
-            if exact:
-                self._cost_cores.append((robot_bound, core))
-        self.stats["sat_joint_by_dominance"] = self.stats.get("sat_joint_by_dominance", 0) + 1
-        return JointResult(
-            status,
-            None,
-            None,
-            None,
-            core,
-            None,
-            exact and status != "unknown",
-            why if exact else reason,
-            h,
-            calls,
-            self._finish("joint", t0),
-        )
+        got = self._counting_bound(lits, above=robot_bound)
+        if got is not None and got > robot_bound:
+            core = list(lits)
+            for lit in lits:
+                trial = [x for x in core if x != lit]
+                b = self._counting_bound(trial, above=robot_bound)
+                if b is not None and b > robot_bound:
+                    core = trial
+            b = self._counting_bound(core, above=robot_bound)
+            assert b is not None
+            self._cost_cores.append((int(min(b - 1, _BIG)), frozenset(core)))
+            return done(
+                frozenset(core),
+                "robot costs dominate: operator counting rules out every human plan within "
+                "the robot bound", 0,
+            )  # fmt: skip
+        core = frozenset(lits)
+        why = "robot costs dominate: the robot bound is below the proven human optimum"
+        calls = 0
+        if exact:
+            # the horizon holds for every selection, so cores of these calls generalize
+            enc, solver = self.opt_enc, self._opt_solver
+            base = enc.cost_assumptions(HUMAN, robot_bound, h) + enc.goal_assumptions(h)
+            sel_lits = enc.lits_assumptions(lits)
+            total = self.dominance_conflict_budget
+            if conflict_budget is not None:
+                total = min(total, conflict_budget)
+            core = self._minimize_core(base, sel_lits, sel_lits, solver, total_conflicts=total)
+            calls = self._last_core_calls
+            if len(core) < len(lits):
+                why = "robot costs dominate: no human plan within the robot bound"
+        self._cost_cores.append((robot_bound, core))
+        return done(core, why, calls)
 
     @cached_property
     def _always_dominates(self) -> bool:
@@ -901,25 +1017,35 @@ class SatOracles:
         sel_lits: list[int],
         raw_core: Iterable[int],
         solver: Solver | None = None,
+        total_conflicts: int | None = None,
     ) -> frozenset[GuardLit]:
         """Deletion-based shrinking of the selector part of an UNSAT core.
 
         Each step drops one literal and re-solves (with a conflict budget); an UNSAT answer
         keeps the (possibly smaller) new core, SAT or budget-out keeps the literal.  At most
-        ``core_calls`` calls: the result is always a core, minimal only if the loop finished.
+        ``core_calls`` calls and, if given, ``total_conflicts`` conflicts in all: the result is
+        always a core, minimal only if the loop finished.
         """
         solver = self._joint_solver if solver is None else solver
         in_core = set(raw_core)
         core = [lit for lit in sel_lits if lit in in_core]
         self._last_core_calls = 0
+        spent_at = solver.accum_stats().get("conflicts", 0)
         i = 0
         # a one-literal core is kept as is: the empty core (no selection at all) is rare and
         # mostly caught by the robot lower bound before any SAT call
         while len(core) > 1 and i < len(core) and self._last_core_calls < self.core_calls:
+            budget = self.core_conflict_budget
+            if total_conflicts is not None:
+                budget = min(
+                    budget, total_conflicts - solver.accum_stats().get("conflicts", 0) + spent_at
+                )
+                if budget <= 0:
+                    break
             trial = core[:i] + core[i + 1 :]
             self._last_core_calls += 1
             self.stats["sat_core_min_calls"] += 1
-            if self._solve(solver, base + trial, budget=self.core_conflict_budget) is False:
+            if self._solve(solver, base + trial, budget=budget) is False:
                 got = set(solver.get_core() or [])
                 core = [lit for lit in trial if lit in got]
             else:

@@ -128,9 +128,13 @@ class RelaxedTask:
     def h_max(self, state: list[int]) -> float:
         return self.hmax(state, self.costs, stop_at_goal=True)[0][self.goal_atom]
 
-    def lmcut(self, state: list[int]) -> float:
+    def lmcut(self, state: list[int], cuts: list[list[int]] | None = None) -> float:
         """LM-cut: repeatedly find a cut between the initial atoms and the zero-cost goal zone
-        of the justification graph, add its minimum cost and reduce it to zero."""
+        of the justification graph, add its minimum cost and reduce it to zero.
+
+        Each cut is a disjunctive action landmark (every plan from ``state`` uses one of its
+        actions); with ``cuts`` given they are appended to it, as lists of action indices
+        (the artificial goal action left out)."""
         costs = self.costs[:]
         total = 0
         goal, n = self.goal_atom, self.n_atoms
@@ -172,6 +176,8 @@ class RelaxedTask:
                         cut.append(j)
             m = min(costs[j] for j in cut)
             assert m > 0, "LM-cut found a zero-cost cut"
+            if cuts is not None:
+                cuts.append([j for j in cut if j != len(self.pres) - 1])
             total += m
             for j in cut:
                 costs[j] -= m

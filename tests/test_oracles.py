@@ -280,10 +280,17 @@ def _same_costs(fam: GroundFamily) -> GroundFamily:
 
 
 @SETTINGS
-@given(fam=families(max_atoms=3, max_actions=5, max_updates=4), data=st.data())
-def test_joint_below_the_human_optimum_under_dominance_has_sound_cores(fam, data):
-    """When robot costs dominate and K < c*(E), JOINT is answered by an OPT-style proof on the
-    human copy alone; its core must still rule out every agreeing selection."""
+@given(
+    fam=families(max_atoms=3, max_actions=5, max_updates=4),
+    data=st.data(),
+    mode=st.sampled_from([(True, 3000), (False, 3000), (False, 0)]),
+)
+def test_joint_below_the_human_optimum_under_dominance_has_sound_cores(fam, data, mode):
+    """When robot costs dominate and K < c*(E), JOINT is answered by shrinking the full
+    assignment (a core, since K < c*(E) is proven): by operator counting, by OPT-style proofs on
+    the human copy alone, or not at all (no conflicts left); every core must still rule out
+    every agreeing selection."""
+    counting, budget = mode
     fam = _same_costs(fam)
     sel = data.draw(selections(fam.n_updates))
     c_star = dijkstra(fam.specialize(sel))
@@ -292,11 +299,13 @@ def test_joint_below_the_human_optimum_under_dominance_has_sound_cores(fam, data
         return
     rb = data.draw(st.integers(c_robot, c_star - 1))
     hb = data.draw(st.integers(c_star, c_star + 2))
-    with SatOracles(fam) as orc:
+    with SatOracles(fam, operator_counting=counting, dominance_conflict_budget=budget) as orc:
         assert orc._always_dominates
         r = orc.joint(sel, rb, hb, human_lower_bound=c_star)
         assert orc.stats.get("sat_joint_by_dominance") == 1
         assert r.status == "infeasible" and r.exact and joint_brute(fam, sel, rb, hb) is None
+        if budget == 0 and not counting:
+            assert r.core == {(i, i in sel) for i in range(fam.n_updates)} and r.calls == 0
         for other in agreeing(r.core, fam.n_updates):
             assert joint_brute(fam, other, rb, hb) is None
         assert orc.joint_lits(r.core, rb, hb).status == "infeasible"
