@@ -295,6 +295,8 @@ class SatOracles:
         self.counting_time_limit = counting_time_limit
         self._counting: dict[frozenset[GuardLit], float | None] = {}
         self._counting_tries = 0
+        # per way of settling a deletion trial below the human optimum: [seconds, settled]
+        self._trial_stats: dict[str, list[float]] = {"sat": [0.0, 0], "counting": [0.0, 0]}
         self._counting_gains = 0
         # interruption: a flag checked between conflict-budget chunks (CaDiCaL holds the GIL
         # and has no native interrupt in pysat), plus the native interrupt where supported
@@ -610,7 +612,7 @@ class SatOracles:
         key = frozenset(lits)
         if key in self._counting:
             return self._counting[key]
-        if not self.operator_counting or (self._counting_tries >= 4 and not self._counting_gains):
+        if not self._counting_on():
             return None
         t0 = time.perf_counter()
         sel = frozenset(i for i, v in key if v)
@@ -624,6 +626,9 @@ class SatOracles:
             self.stats.get("sat_counting_time_s", 0.0) + time.perf_counter() - t0
         )
         return got
+
+    def _counting_on(self) -> bool:
+        return self.operator_counting and (self._counting_tries < 4 or self._counting_gains > 0)
 
     def _known_plan(self, task: GroundTask) -> tuple[PlanStep, ...] | None:
         """The cheapest plan of an earlier OPT answer that is valid in ``task`` (an upper
@@ -741,11 +746,16 @@ class SatOracles:
         (``encodings/joint-and-cores.md``), cheapest argument first:
 
         1. an earlier core "no plan of cost <= K' (>= K)" that ``E`` agrees with (no solving);
-        2. operator counting on the abstraction of a partial assignment: a lower bound above
-           ``K`` needs no horizon (:mod:`mega_sat.operator_counting`);
-        3. deletion on the OPT solver (the human copy alone) at the family-wide horizon for
-           cost ``K``, each call capped at ``core_conflict_budget`` conflicts and all of them
-           together at ``dominance_conflict_budget`` (``conflict_budget`` if smaller).
+        2. deletion, while operator counting is on for the task: each trial (the core without
+           one literal) is settled by a short SAT call on the OPT solver (the human copy alone)
+           at the family-wide horizon for cost ``K`` with 300 conflicts, or by operator
+           counting on the abstraction of the trial (a lower bound above ``K`` needs no
+           horizon, :mod:`mega_sat.operator_counting`; only if it rules out the full
+           assignment, whose abstraction is the finest), whichever has taken less time per
+           settled trial on this task so far;
+        3. a trial neither settles gets the SAT call with up to ``core_conflict_budget``
+           conflicts.  All SAT calls of one JOINT call together spend at most
+           ``dominance_conflict_budget`` conflicts (``conflict_budget`` if smaller).
         """
         t0 = time.perf_counter()
         h, exact, reason = self._joint_horizon(None, robot_bound)
@@ -766,39 +776,79 @@ class SatOracles:
                     core, "robot costs dominate: an earlier core rules out every human plan "
                     "this cheap", 0,
                 )  # fmt: skip
-        got = self._counting_bound(lits, above=robot_bound)
-        if got is not None and got > robot_bound:
-            core = list(lits)
-            for lit in lits:
-                trial = [x for x in core if x != lit]
-                b = self._counting_bound(trial, above=robot_bound)
-                if b is not None and b > robot_bound:
-                    core = trial
-            b = self._counting_bound(core, above=robot_bound)
-            assert b is not None
-            self._cost_cores.append((int(min(b - 1, _BIG)), frozenset(core)))
-            return done(
-                frozenset(core),
-                "robot costs dominate: operator counting rules out every human plan within "
-                "the robot bound", 0,
-            )  # fmt: skip
-        core = frozenset(lits)
+        enc = self.opt_enc
+        base = enc.cost_assumptions(HUMAN, robot_bound, h) + enc.goal_assumptions(h)
+        left = self.dominance_conflict_budget
+        if conflict_budget is not None:
+            left = min(left, conflict_budget)
+        core, calls, i = list(lits), 0, 0
+        counting: bool | None = None if self.operator_counting else False
+        # a one-literal core is kept as is (as in _minimize_core)
+        while len(core) > 1 and i < len(core) and calls < self.core_calls:
+            trial = core[:i] + core[i + 1 :]
+            verdict, smaller = None, trial
+            if counting is not False and not self._counting_on():
+                counting = False
+            ways = (
+                sorted(("sat", "counting"), key=self._trial_cost) if counting is not False else []
+            )
+            for way in ways:
+                t0 = time.perf_counter()
+                if way == "sat" and exact and left > 0:  # short: small tasks settle it at once
+                    verdict, smaller, spent = self._dominance_trial(base, trial, min(300, left))
+                    left, calls = left - spent, calls + 1
+                elif way == "counting":
+                    if counting is None:  # a trial's abstraction is coarser: no better bound
+                        got = self._counting_bound(lits, above=robot_bound)
+                        counting = got is not None and got > robot_bound
+                        if not counting:
+                            continue
+                    got = self._counting_bound(trial, above=robot_bound)
+                    if got is not None and got > robot_bound:
+                        verdict, smaller = False, trial
+                else:
+                    continue
+                self._trial_stats[way][0] += time.perf_counter() - t0
+                self._trial_stats[way][1] += verdict is not None
+                if verdict is not None:
+                    break
+            if verdict is None and exact and left > 0:
+                budget = min(self.core_conflict_budget, left)
+                verdict, smaller, spent = self._dominance_trial(base, trial, budget)
+                left, calls = left - spent, calls + 1
+            if verdict is False:  # no plan within K in any model agreeing with the trial
+                core = smaller
+            else:
+                i += 1
+        self.stats["sat_core_min_calls"] += calls
         why = "robot costs dominate: the robot bound is below the proven human optimum"
-        calls = 0
-        if exact:
-            # the horizon holds for every selection, so cores of these calls generalize
-            enc, solver = self.opt_enc, self._opt_solver
-            base = enc.cost_assumptions(HUMAN, robot_bound, h) + enc.goal_assumptions(h)
-            sel_lits = enc.lits_assumptions(lits)
-            total = self.dominance_conflict_budget
-            if conflict_budget is not None:
-                total = min(total, conflict_budget)
-            core = self._minimize_core(base, sel_lits, sel_lits, solver, total_conflicts=total)
-            calls = self._last_core_calls
-            if len(core) < len(lits):
-                why = "robot costs dominate: no human plan within the robot bound"
-        self._cost_cores.append((robot_bound, core))
-        return done(core, why, calls)
+        if len(core) < len(lits):
+            why = "robot costs dominate: no human plan within the robot bound"
+        self._cost_cores.append((robot_bound, frozenset(core)))
+        return done(frozenset(core), why, calls)
+
+    def _trial_cost(self, way: str) -> float:
+        """Seconds per settled deletion trial so far (0 before the first try, so each way is
+        tried once): usar-fetch settles a trial by a short SAT call in about a millisecond,
+        rover-martian by operator counting in about 15 ms after 50-100 ms of SAT."""
+        spent, settled = self._trial_stats[way]
+        return spent / max(settled, 1)
+
+    def _dominance_trial(
+        self, base: list[int], trial: list[GuardLit], budget: int
+    ) -> tuple[bool | None, list[GuardLit], int]:
+        """One deletion trial of :meth:`_joint_by_dominance` on the OPT solver: ``False`` with
+        the literals of the solver's core if no plan of cost ``<= K`` fits the family-wide
+        horizon under ``trial``, ``True`` if one does, ``None`` if ``budget`` conflicts ran
+        out; and the conflicts spent."""
+        enc, solver = self.opt_enc, self._opt_solver
+        before = solver.accum_stats().get("conflicts", 0)
+        r = self._solve(solver, base + enc.lits_assumptions(trial), budget=budget)
+        spent = max(solver.accum_stats().get("conflicts", 0) - before, 1)
+        if r is False:
+            got = set(solver.get_core() or [])
+            return False, [g for g in trial if enc.guard_lit(g) in got], spent
+        return r, trial, spent
 
     @cached_property
     def _always_dominates(self) -> bool:
@@ -1017,35 +1067,25 @@ class SatOracles:
         sel_lits: list[int],
         raw_core: Iterable[int],
         solver: Solver | None = None,
-        total_conflicts: int | None = None,
     ) -> frozenset[GuardLit]:
         """Deletion-based shrinking of the selector part of an UNSAT core.
 
         Each step drops one literal and re-solves (with a conflict budget); an UNSAT answer
         keeps the (possibly smaller) new core, SAT or budget-out keeps the literal.  At most
-        ``core_calls`` calls and, if given, ``total_conflicts`` conflicts in all: the result is
-        always a core, minimal only if the loop finished.
+        ``core_calls`` calls: the result is always a core, minimal only if the loop finished.
         """
         solver = self._joint_solver if solver is None else solver
         in_core = set(raw_core)
         core = [lit for lit in sel_lits if lit in in_core]
         self._last_core_calls = 0
-        spent_at = solver.accum_stats().get("conflicts", 0)
         i = 0
         # a one-literal core is kept as is: the empty core (no selection at all) is rare and
         # mostly caught by the robot lower bound before any SAT call
         while len(core) > 1 and i < len(core) and self._last_core_calls < self.core_calls:
-            budget = self.core_conflict_budget
-            if total_conflicts is not None:
-                budget = min(
-                    budget, total_conflicts - solver.accum_stats().get("conflicts", 0) + spent_at
-                )
-                if budget <= 0:
-                    break
             trial = core[:i] + core[i + 1 :]
             self._last_core_calls += 1
             self.stats["sat_core_min_calls"] += 1
-            if self._solve(solver, base + trial, budget=budget) is False:
+            if self._solve(solver, base + trial, budget=self.core_conflict_budget) is False:
                 got = set(solver.get_core() or [])
                 core = [lit for lit in trial if lit in got]
             else:

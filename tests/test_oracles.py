@@ -283,13 +283,13 @@ def _same_costs(fam: GroundFamily) -> GroundFamily:
 @given(
     fam=families(max_atoms=3, max_actions=5, max_updates=4),
     data=st.data(),
-    mode=st.sampled_from([(True, 3000), (False, 3000), (False, 0)]),
+    mode=st.sampled_from([(True, 3000), (True, 0), (False, 3000), (False, 0)]),
 )
 def test_joint_below_the_human_optimum_under_dominance_has_sound_cores(fam, data, mode):
     """When robot costs dominate and K < c*(E), JOINT is answered by shrinking the full
-    assignment (a core, since K < c*(E) is proven): by operator counting, by OPT-style proofs on
-    the human copy alone, or not at all (no conflicts left); every core must still rule out
-    every agreeing selection."""
+    assignment (a core, since K < c*(E) is proven): by OPT-style proofs on the human copy alone
+    and operator counting, by operator counting alone (no conflicts to spend), or not at all;
+    every core must still rule out every agreeing selection."""
     counting, budget = mode
     fam = _same_costs(fam)
     sel = data.draw(selections(fam.n_updates))
@@ -373,3 +373,24 @@ def test_opt_with_the_exact_extra_cost_horizon_stays_exact(fam: GroundFamily, da
             r = check_opt(fam, orc, data.draw(selections(fam.n_updates)))
             if r.status == "optimal" and r.cost and fam.min_cost > 0:
                 assert r.exact
+
+
+def test_joint_by_dominance_cores_from_operator_counting_on_rover():
+    """rover-martian/p3 with no conflicts to spend: the core below the human optimum is shrunk
+    by operator counting alone, and every model agreeing with it has no plan within K."""
+    from pathlib import Path
+
+    from mega_sat.grounding import ground
+    from mega_sat.loading import load_task, resolve_task_dir
+    from mega_sat.search import astar
+
+    d = Path(__file__).resolve().parent.parent / "domains" / "rover-martian" / "p3"
+    fam = ground(load_task(**resolve_task_dir(d)))
+    with SatOracles(fam, dominance_conflict_budget=0) as orc:
+        c = orc.opt(frozenset()).cost
+        r = orc.joint(frozenset(), c - 1, c, human_lower_bound=c)
+        assert r.status == "infeasible" and r.exact and r.calls == 0
+        assert len(r.core) < fam.n_updates and orc.stats["sat_counting_calls"] > 1
+        for other in agreeing(r.core, fam.n_updates):
+            best = astar(fam.specialize(other), heuristic="blind")
+            assert best.status == "optimal" and best.cost > c - 1
