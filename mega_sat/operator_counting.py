@@ -99,7 +99,8 @@ def operator_counting_bound(task: GroundTask, *, time_limit: float = 2.0) -> flo
             prob += gain_max >= lower
             prob += gain_min <= upper
         cbc = getattr(pulp, "PULP_CBC_CMD", None) or pulp.COIN_CMD
-        status = prob.solve(cbc(msg=False, timeLimit=time_limit))
+        # gapRel=0: "optimal" must mean proven optimal, not within a tolerance
+        status = prob.solve(cbc(msg=False, timeLimit=time_limit, gapRel=0))
     if status == pulp.LpStatusInfeasible:
         return math.inf
     if status != pulp.LpStatusOptimal or prob.sol_status != pulp.LpSolutionOptimal:
