@@ -30,6 +30,7 @@ from mega_sat.invariants import EncodingFacts, encoding_facts
 from mega_sat.operator_counting import operator_counting_bound
 from mega_sat.plan_reduction import reduce_plan
 from mega_sat.sat_encoding import HUMAN, ROBOT, FamilyEncoding
+from mega_sat.simulate import ground_plan_cost
 
 _INF = float("inf")
 _BIG = 1 << 40  # a cost bound above any plan's cost (a core ruling out every plan)
@@ -83,14 +84,6 @@ class JointResult:
     horizon: int
     calls: int
     time_s: float
-
-
-def _simulate_cost(task: GroundTask, plan: Sequence[PlanStep]) -> int | None:
-    """Cost of ``plan`` in ``task`` if valid (the shared simulator)."""
-    from mega_sat.simulate import simulate_ground
-
-    sim = simulate_ground(task, plan)
-    return sim.cost if sim.valid else None
 
 
 def _supports_interrupt(solver: Solver) -> bool:
@@ -295,9 +288,9 @@ class SatOracles:
         self.counting_time_limit = counting_time_limit
         self._counting: dict[frozenset[GuardLit], float | None] = {}
         self._counting_tries = 0
+        self._counting_gains = 0
         # per way of settling a deletion trial below the human optimum: [seconds, settled]
         self._trial_stats: dict[str, list[float]] = {"sat": [0.0, 0], "counting": [0.0, 0]}
-        self._counting_gains = 0
         # interruption: a flag checked between conflict-budget chunks (CaDiCaL holds the GIL
         # and has no native interrupt in pysat), plus the native interrupt where supported
         self._interrupted = False
@@ -552,11 +545,7 @@ class SatOracles:
                 assert best is None or got <= best, "operator-counting bound above a plan's cost"
                 lb_cost, why_lb = int(got), "meets the operator-counting lower bound"
         if (best is None or best > lb_cost) and self._search_first(task):
-            found = self._tighten_extra(sel)
-            if found is not None:
-                found, cost = reduce_plan(task, found)
-                if best is None or cost < best:
-                    plan, best = found, cost
+            plan, best = self._cheaper(task, self._tighten_extra(sel), plan, best)
         h = min(max(lb_steps, 1), self.horizon_cap)
         while plan is None:
             calls += 1
@@ -588,18 +577,22 @@ class SatOracles:
             ok = self._solve(solver, sel_lits + enc.goal_assumptions(h) + cost_lits, budget)
             if ok is None:
                 # a hard query: an exact lower bound on the cost above N * c may shorten it
-                found = self._tighten_extra(sel)
-                if found is not None:
-                    found, cost = reduce_plan(task, found)
-                    if cost < best:
-                        plan, best = found, cost
+                plan, best = self._cheaper(task, self._tighten_extra(sel), plan, best)
                 continue
             if not ok:
                 return done("optimal", best, plan, exact, reason or "proven by SAT")
             plan = enc.decode_plan(solver.get_model(), h)
-            cost = _simulate_cost(task, plan)
+            cost = ground_plan_cost(task, plan)
             assert cost is not None and cost < best, "decoded plan invalid or not cheaper"
             plan, best = reduce_plan(task, plan)
+
+    @staticmethod
+    def _cheaper(task: GroundTask, found, plan, best):
+        """``(plan, best)``, or ``found`` after action elimination if it is cheaper."""
+        if found is None:
+            return plan, best
+        found, cost = reduce_plan(task, found)
+        return (found, cost) if best is None or cost < best else (plan, best)
 
     def _counting_bound(self, lits: Iterable[GuardLit], above: float) -> float | None:
         """Operator-counting lower bound (:mod:`mega_sat.operator_counting`) on the cost of
@@ -635,7 +628,7 @@ class SatOracles:
         bound to descend from: neighbouring candidate models often share optimal plans)."""
         best = None
         for plan in self._opt_plans:
-            c = _simulate_cost(task, plan)
+            c = ground_plan_cost(task, plan)
             if c is not None and (best is None or c < best[0]):
                 best = (c, plan)
         return None if best is None else best[1]
@@ -662,7 +655,7 @@ class SatOracles:
                 self._finish("opt", t0),
             )
         if r.status == "optimal":
-            cost = _simulate_cost(task, r.plan)
+            cost = ground_plan_cost(task, r.plan)
             if cost == r.cost:
                 return OptResult(
                     "optimal",
@@ -793,7 +786,7 @@ class SatOracles:
                 sorted(("sat", "counting"), key=self._trial_cost) if counting is not False else []
             )
             for way in ways:
-                t0 = time.perf_counter()
+                started = time.perf_counter()
                 if way == "sat" and exact and left > 0:  # short: small tasks settle it at once
                     verdict, smaller, spent = self._dominance_trial(base, trial, min(300, left))
                     left, calls = left - spent, calls + 1
@@ -808,7 +801,7 @@ class SatOracles:
                         verdict, smaller = False, trial
                 else:
                     continue
-                self._trial_stats[way][0] += time.perf_counter() - t0
+                self._trial_stats[way][0] += time.perf_counter() - started
                 self._trial_stats[way][1] += verdict is not None
                 if verdict is not None:
                     break
@@ -924,7 +917,6 @@ class SatOracles:
             return self._joint_by_dominance(lits, robot_bound, conflict_budget)
         t0 = time.perf_counter()
         enc, solver = self.joint_enc, self._joint_solver
-        lits = list(dict.fromkeys(lits))
         calls = 0
         h, exact, reason = self._joint_horizon(robot_bound, human_bound)
         rlb = max(self._robot_lower_bound(), robot_lower_bound or 0)
@@ -1014,8 +1006,8 @@ class SatOracles:
         enc = self.joint_enc
         sel = enc.decode_selection(model)
         plan = enc.decode_plan(model, h)
-        rc = _simulate_cost(robot_task, plan)
-        hc = _simulate_cost(self.task(sel), plan)
+        rc = ground_plan_cost(robot_task, plan)
+        hc = ground_plan_cost(self.task(sel), plan)
         assert rc is not None and hc is not None, "decoded joint plan invalid: encoding bug"
         return plan, rc, hc, sel
 
@@ -1029,10 +1021,10 @@ class SatOracles:
             plan = tuple(tuple(str(x).lower() for x in step) for step in raw)
             if len(plan) > h:
                 continue  # only possible with an inexact horizon; keep answers within it
-            rc = _simulate_cost(robot_task, plan)
+            rc = ground_plan_cost(robot_task, plan)
             if rc is None or (robot_bound is not None and rc > robot_bound):
                 continue
-            hc = _simulate_cost(task, plan)
+            hc = ground_plan_cost(task, plan)
             if hc is None or hc > human_bound:
                 continue
             if best is None or rc < best[1]:
@@ -1066,7 +1058,6 @@ class SatOracles:
         base: list[int],
         sel_lits: list[int],
         raw_core: Iterable[int],
-        solver: Solver | None = None,
     ) -> frozenset[GuardLit]:
         """Deletion-based shrinking of the selector part of an UNSAT core.
 
@@ -1074,7 +1065,7 @@ class SatOracles:
         keeps the (possibly smaller) new core, SAT or budget-out keeps the literal.  At most
         ``core_calls`` calls: the result is always a core, minimal only if the loop finished.
         """
-        solver = self._joint_solver if solver is None else solver
+        solver = self._joint_solver
         in_core = set(raw_core)
         core = [lit for lit in sel_lits if lit in in_core]
         self._last_core_calls = 0

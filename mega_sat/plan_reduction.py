@@ -12,12 +12,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from mega_sat.family import GroundTask, PlanStep
-from mega_sat.simulate import simulate_ground
-
-
-def _cost_if_valid(task: GroundTask, plan: Sequence[PlanStep]) -> int | None:
-    sim = simulate_ground(task, plan)
-    return sim.cost if sim.valid else None
+from mega_sat.simulate import ground_plan_cost
 
 
 def _drop_from(task: GroundTask, plan: Sequence[PlanStep], i: int) -> list[PlanStep]:
@@ -40,13 +35,13 @@ def _drop_from(task: GroundTask, plan: Sequence[PlanStep], i: int) -> list[PlanS
 def reduce_plan(task: GroundTask, plan: Sequence[PlanStep]) -> tuple[tuple[PlanStep, ...], int]:
     """A valid plan of ``task`` no costlier than ``plan`` (which must be valid), and its cost."""
     best = list(plan)
-    cost = _cost_if_valid(task, best)
+    cost = ground_plan_cost(task, best)
     if cost is None:
         raise ValueError("reduce_plan needs a valid plan")
     i = 0
     while i < len(best):
         cand = _drop_from(task, best, i)
-        c = _cost_if_valid(task, cand)
+        c = ground_plan_cost(task, cand)
         if c is not None and c < cost:
             best, cost = cand, c  # retry the same position: the plan shifted left
         else:

@@ -145,3 +145,9 @@ def simulate_ground(task: GroundTask, plan: Sequence[PlanStep]) -> Simulation:
 def plan_cost(model: Model, plan: Sequence[PlanStep]) -> int | None:
     """``C(pi, M)``: the plan's cost if it is valid in ``model``, else ``None``."""
     return simulate(model, plan).cost
+
+
+def ground_plan_cost(task: GroundTask, plan: Sequence[PlanStep]) -> int | None:
+    """:func:`plan_cost` for a ground task: the cost if ``plan`` is valid in ``task``."""
+    sim = simulate_ground(task, plan)
+    return sim.cost if sim.valid else None

@@ -24,9 +24,9 @@ import time
 from mega_sat.abstraction import abstract_task
 from mega_sat.family import GroundFamily, PlanStep
 from mega_sat.node_planner import NodePlan, NodePlanner
-from mega_sat.oracles import _simulate_cost
 from mega_sat.pair_reachability import goal_pair_unreachable
 from mega_sat.search import RelaxedTask, astar
+from mega_sat.simulate import ground_plan_cost
 
 _INF = float("inf")
 
@@ -71,7 +71,7 @@ class TieredOpt:
             return done("unsolvable", None, None, "pairs")
         best = None
         for plan in self._plans:
-            c = _simulate_cost(task, plan)
+            c = ground_plan_cost(task, plan)
             if c is not None and (best is None or c < best[0]):
                 best = (c, plan)
         if best is not None and best[0] <= bound:
