@@ -656,13 +656,22 @@ def verify(explanation, plan_file, checker, as_json, verbose, **kw):
 @click.option("--delta", "k", type=int, required=True, help="Size of the model difference.")
 @click.option("--seed", type=int, default=0, show_default=True)
 @click.option("--out", "out_dir", type=click.Path(), required=True)
+@click.option(
+    "--time-budget",
+    type=click.FloatRange(min=0),
+    default=120.0,
+    show_default=True,
+    help="Seconds to search for a solvable human model before giving up.",
+)
 @click.option("--force", is_flag=True)
 @_friendly
-def generate(robot_domain, robot_problem, k, seed, out_dir, force):
+def generate(robot_domain, robot_problem, k, seed, out_dir, time_budget, force):
     """Derive a human model exactly --delta features away (seeded), as a task folder."""
     from mega_sat.generate import write_instance
 
-    g = write_instance(robot_domain, robot_problem, k, seed, out_dir, overwrite=force)
+    g = write_instance(
+        robot_domain, robot_problem, k, seed, out_dir, overwrite=force, time_budget=time_budget
+    )
     click.echo(f"wrote {out_dir} (|Delta| = {len(g.updates)}, seed {seed}, {g.attempts} draw(s)):")
     for u in g.updates:
         click.echo(f"  {u.name}")
@@ -677,9 +686,16 @@ def generate(robot_domain, robot_problem, k, seed, out_dir, force):
     help="Comma-separated sizes of the model difference.",
 )
 @click.option("--seed", type=int, default=0, show_default=True)
+@click.option(
+    "--time-budget",
+    type=click.FloatRange(min=0),
+    default=120.0,
+    show_default=True,
+    help="Seconds to search for a solvable human model per instance before skipping it.",
+)
 @click.option("--force", is_flag=True)
 @_friendly
-def generate_suite(domains_dir, deltas, seed, force):
+def generate_suite(domains_dir, deltas, seed, time_budget, force):
     """Generate DOMAINS_DIR/<name>/delta/<K>/<problem>/ for every shipped problem."""
     from mega_sat.generate import instance_seed, write_instance
 
@@ -705,6 +721,7 @@ def generate_suite(domains_dir, deltas, seed, force):
                         s,
                         out,
                         overwrite=force,
+                        time_budget=time_budget,
                     )
                 except MegaSatError as e:
                     failed.append(out)

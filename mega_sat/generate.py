@@ -11,6 +11,7 @@ atoms from the robot's relaxed-reachable atoms, so the human models stay type-sa
 from __future__ import annotations
 
 import random
+import time
 from dataclasses import dataclass
 
 from mega_sat.errors import UnsolvableError, UsageError
@@ -81,9 +82,19 @@ def _static_preds(m: Model) -> set[str]:
 
 
 def generate_human(
-    robot: Model, k: int, seed: int, *, max_attempts: int = 200, time_limit: float = 30.0
+    robot: Model,
+    k: int,
+    seed: int,
+    *,
+    max_attempts: int = 200,
+    time_limit: float = 30.0,
+    time_budget: float = 120.0,
 ) -> Generated:
     """A human model with ``|Delta| == k`` against ``robot``, both problems solvable.
+
+    ``time_limit`` bounds each planner call, ``time_budget`` the whole search over draws (a
+    large ``k`` makes most draws unsolvable, and 200 draws at 30 s each would look like a
+    hang).
 
     A candidate ``Update(f, True)`` above means "the robot has f and the human will not"
     (a removal from the human's view); ``Update(f, False)`` "the human will believe f".
@@ -110,7 +121,14 @@ def generate_human(
             f"the robot model offers only {len(cands)} features to flip; --delta {k} is too large"
         )
     rng = random.Random(seed)
+    deadline = time.perf_counter() + time_budget
     for attempt in range(1, max_attempts + 1):
+        left = deadline - time.perf_counter()
+        if left <= 0:
+            raise UsageError(
+                f"no solvable human model with |Delta| = {k} found in {attempt - 1} "
+                f"seeded draws within {time_budget:g}s (seed {seed})"
+            )
         picks = rng.sample(cands, k)
         # human = robot with each picked feature flipped; express as robot + flips
         flips = [Update(u.feature, not u.robot_has) for u in picks]
@@ -118,7 +136,14 @@ def generate_human(
         task = TwoModelTask.from_models(robot, human)
         if len(task.delta) != k:
             continue
-        h = solve_optimal(ground_model(human), time_limit=time_limit)
+        h = solve_optimal(ground_model(human), time_limit=min(time_limit, left))
+        if h.status == "timeout" and left < time_limit:
+            # cut short by the budget, not by its own limit: stop here rather than move on to
+            # the next draw, so that a found instance never depends on the machine's speed
+            raise UsageError(
+                f"no solvable human model with |Delta| = {k} found within {time_budget:g}s "
+                f"(draw {attempt} was still being checked; seed {seed})"
+            )
         if h.status != "optimal":
             continue
         return Generated(human, task.delta, attempt)
@@ -129,7 +154,14 @@ def generate_human(
 
 
 def write_instance(
-    robot_domain: str, robot_problem: str, k: int, seed: int, out_dir, *, overwrite: bool = False
+    robot_domain: str,
+    robot_problem: str,
+    k: int,
+    seed: int,
+    out_dir,
+    *,
+    overwrite: bool = False,
+    time_budget: float = 120.0,
 ) -> Generated:
     """Generate and write a task folder: the robot files copied verbatim, the human files
     written by mega-sat, so ``--task out_dir`` loads it."""
@@ -140,7 +172,7 @@ def write_instance(
     from mega_sat.pddl_writer import write_model
 
     robot = read_model(robot_domain, robot_problem)
-    g = generate_human(robot, k, seed)
+    g = generate_human(robot, k, seed, time_budget=time_budget)
     out = Path(out_dir)
     targets = [out / n for n in ("robot-domain.pddl", "robot-problem.pddl")]
     for t in targets:

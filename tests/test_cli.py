@@ -282,3 +282,30 @@ def test_error_apply_refuses_overwrite(tmp_path):
     )
     res = run("apply", "--task", USAR, "--explanation", tmp_path / "e.txt", "--out", out)
     assert res.exit_code == 2 and "exists" in _single_error_line(res)
+
+
+def test_generate_is_reproducible_and_its_time_budget_is_honoured(tmp_path):
+    """The same seed writes the same human model; a search that runs out of its time budget
+    is a one-line usage error, not a hang."""
+    args = [
+        "generate",
+        "--robot-domain",
+        USAR.parent / "robot-domain.pddl",
+        "--robot-problem",
+        USAR / "robot-problem.pddl",
+        "--delta",
+        "3",
+        "--seed",
+        "5",
+    ]
+    for name in ("a", "b"):
+        res = run(*args, "--out", tmp_path / name)
+        assert res.exit_code == 0, res.output
+        assert "|Delta| = 3" in res.output
+    for f in ("human-domain.pddl", "human-problem.pddl"):
+        assert (tmp_path / "a" / f).read_text() == (tmp_path / "b" / f).read_text()
+    res = run(*args, "--out", tmp_path / "c", "--time-budget", "0")
+    assert res.exit_code == 2
+    line = _single_error_line(res)
+    assert "|Delta| = 3" in line and "within 0s" in line
+    assert not (tmp_path / "c").exists()
