@@ -248,8 +248,9 @@ def test_deadline_interrupts_a_long_call(solver):
 
     fam = _chain(3)
     with SatOracles(fam, solver=solver, solve_chunk=50) as orc:
-        # a pigeonhole formula (9 pigeons, 8 holes) makes the next solver call hard
-        n, m = 9, 8
+        # a pigeonhole formula (11 pigeons, 10 holes) makes the next solver call hard (9/8 was
+        # once refuted by CaDiCaL inside the 0.3 s deadline)
+        n, m = 11, 10
         top = orc.joint_enc.top
         v = [[top + i * m + j + 1 for j in range(m)] for i in range(n)]
         orc.joint_enc.top += n * m
