@@ -650,19 +650,26 @@ def verify(explanation, plan_file, checker, as_json, verbose, **kw):
 # --------------------------------------------------------------------------- generate
 
 
+def _time_budget_option(when: str):
+    """``--time-budget`` of the generators (seconds for the whole search over seeded draws)."""
+    from mega_sat.generate import DEFAULT_TIME_BUDGET
+
+    return click.option(
+        "--time-budget",
+        type=click.FloatRange(min=0),
+        default=DEFAULT_TIME_BUDGET,
+        show_default=True,
+        help=f"Seconds to search for a solvable human model {when}.",
+    )
+
+
 @main.command()
 @click.option("--robot-domain", type=click.Path(), required=True)
 @click.option("--robot-problem", type=click.Path(), required=True)
 @click.option("--delta", "k", type=int, required=True, help="Size of the model difference.")
 @click.option("--seed", type=int, default=0, show_default=True)
 @click.option("--out", "out_dir", type=click.Path(), required=True)
-@click.option(
-    "--time-budget",
-    type=click.FloatRange(min=0),
-    default=120.0,
-    show_default=True,
-    help="Seconds to search for a solvable human model before giving up.",
-)
+@_time_budget_option("before giving up")
 @click.option("--force", is_flag=True)
 @_friendly
 def generate(robot_domain, robot_problem, k, seed, out_dir, time_budget, force):
@@ -686,13 +693,7 @@ def generate(robot_domain, robot_problem, k, seed, out_dir, time_budget, force):
     help="Comma-separated sizes of the model difference.",
 )
 @click.option("--seed", type=int, default=0, show_default=True)
-@click.option(
-    "--time-budget",
-    type=click.FloatRange(min=0),
-    default=120.0,
-    show_default=True,
-    help="Seconds to search for a solvable human model per instance before skipping it.",
-)
+@_time_budget_option("per instance before skipping it")
 @click.option("--force", is_flag=True)
 @_friendly
 def generate_suite(domains_dir, deltas, seed, time_budget, force):

@@ -18,6 +18,9 @@ from mega_sat.errors import UnsolvableError, UsageError
 from mega_sat.features import ADD, DEL, GOAL, INIT, NEGPRE, PRE, Feature, Update, apply_updates
 from mega_sat.model import Atom, Model, Schema
 
+# seconds a generator searches for a solvable human model before it gives up
+DEFAULT_TIME_BUDGET = 120.0
+
 LIFTED_KINDS = (PRE, NEGPRE, ADD, DEL)
 
 
@@ -88,7 +91,7 @@ def generate_human(
     *,
     max_attempts: int = 200,
     time_limit: float = 30.0,
-    time_budget: float = 120.0,
+    time_budget: float = DEFAULT_TIME_BUDGET,
 ) -> Generated:
     """A human model with ``|Delta| == k`` against ``robot``, both problems solvable.
 
@@ -161,7 +164,7 @@ def write_instance(
     out_dir,
     *,
     overwrite: bool = False,
-    time_budget: float = 120.0,
+    time_budget: float = DEFAULT_TIME_BUDGET,
 ) -> Generated:
     """Generate and write a task folder: the robot files copied verbatim, the human files
     written by mega-sat, so ``--task out_dir`` loads it."""
