@@ -68,7 +68,9 @@ CALL_FIELDS = (
     "horizon",
     "max_horizon_asked",
     "sat_calls",
+    "conflicts",
     "seconds",
+    "seconds_runs",
     "cached",
     "exact",
     "reason",
@@ -107,6 +109,21 @@ def count_encodings() -> Iterator[list[int]]:
         yield counter
     finally:
         cls.__init__ = orig
+
+
+def sat_conflicts(orc) -> int | None:
+    """Conflicts spent so far by the oracle object's SAT solvers (``None`` if a solver does
+    not report them).  Unlike seconds, this does not depend on the machine or its load."""
+    total = 0
+    for name in ("_opt_solver", "_joint_solver"):
+        solver = getattr(orc, name, None)
+        if solver is None:
+            continue
+        got = (solver.accum_stats() or {}).get("conflicts")
+        if got is None:
+            return None
+        total += int(got)
+    return total
 
 
 class CallRecorder:
@@ -151,6 +168,7 @@ class CallRecorder:
 
         orc = self.orc
         n_before = orc.stats.get(f"sat_{kind}_calls")
+        conflicts_before = sat_conflicts(orc)
         self._max_h = None
         limit = time.perf_counter() + self.call_limit
         orc.set_deadline(limit if self.deadline is None else min(limit, self.deadline))
@@ -188,6 +206,12 @@ class CallRecorder:
                     reason=res.reason,
                 )
             rec["max_horizon_asked"] = self._max_h
+            conflicts_after = sat_conflicts(orc)
+            rec["conflicts"] = (
+                None
+                if conflicts_before is None or conflicts_after is None
+                else conflicts_after - conflicts_before
+            )
             rec["seconds"] = round(dt, 6)
             # a cached OPT answer comes back without a new oracle computation
             unchanged = n_before is not None and orc.stats.get(f"sat_{kind}_calls") == n_before
@@ -389,6 +413,63 @@ def run_instance(
     return rec
 
 
+def call_key(c: dict[str, Any]) -> tuple:
+    """What a call asked (group, kind, model or literals, bounds): the same question in two
+    runs of one instance, whatever its position in the run."""
+    lits = c.get("lits")
+    return (
+        c.get("group"),
+        c.get("kind"),
+        tuple(c["selection"]) if c.get("selection") is not None else None,
+        tuple(map(tuple, lits)) if lits is not None else None,
+        c.get("robot_bound"),
+        c.get("human_bound"),
+    )
+
+
+def merge_repeats(runs: Sequence[dict[str, Any]]) -> dict[str, Any]:
+    """One record from several runs of one instance: the first run's record, each of its calls
+    timed by the median over the runs that asked the same question (``seconds_runs`` lists
+    them).  The runs need not ask the same questions in the same order (the engine picks
+    between ways of settling a trial by their measured speed), so calls are matched by
+    :func:`call_key` and occurrence; calls of later runs with no match in the first are
+    counted in ``repeat_unmatched``."""
+    base = dict(runs[0])
+    if len(runs) == 1:
+        return base
+
+    def indexed(calls):
+        seen: dict[tuple, int] = {}
+        out = {}
+        for c in calls:
+            k = call_key(c)
+            seen[k] = seen.get(k, 0) + 1
+            out[(k, seen[k])] = c
+        return out
+
+    others = [indexed(r.get("calls", [])) for r in runs[1:]]
+    merged = []
+    matched: set[tuple] = set()
+    for key, c in indexed(base.get("calls", [])).items():
+        secs = [float(c.get("seconds") or 0.0)]
+        for o in others:
+            if key in o:
+                secs.append(float(o[key].get("seconds") or 0.0))
+                matched.add(key)
+        merged.append({**c, "seconds": round(statistics.median(secs), 6), "seconds_runs": secs})
+    base["calls"] = merged
+    base["repeats"] = len(runs)
+    base["repeat_statuses"] = [r.get("status") for r in runs]
+    # an instance that did not finish in some run did not finish
+    worst = next((r for r in runs if r.get("status") != "ok"), None)
+    if worst is not None:
+        for k in ("status", "error", "killed"):
+            if k in worst:
+                base[k] = worst[k]
+    base["repeat_unmatched"] = sum(1 for o in others for k in o if k not in matched)
+    return base
+
+
 # --------------------------------------------------------------------------- statistics
 
 
@@ -585,6 +666,19 @@ def summary(records: Sequence[dict[str, Any]], target: float) -> dict[str, Any]:
     }
 
 
+def _or_dash(v: Any) -> str:
+    return "—" if v is None else str(v)
+
+
+def _repeat_phrase(records: Sequence[dict[str, Any]]) -> str:
+    ns = sorted({int(r.get("repeats") or 1) for r in records})
+    if ns == [1] or not ns:
+        return ""
+    if len(ns) == 1:
+        return f", the median over {ns[0]} runs of each instance"
+    return ", the median over the runs of each instance (`repeats` in results.json)"
+
+
 def render_table(records: Sequence[dict[str, Any]], machine: dict[str, Any], target: float) -> str:
     """``table.md``: one row per instance, then the summary and the slowest calls."""
     limits = sorted({r.get("call_limit_s") for r in records if r.get("call_limit_s")})
@@ -600,7 +694,9 @@ def render_table(records: Sequence[dict[str, Any]], machine: dict[str, Any], tar
         "oracle object (robot model, human model, each single update: `direct`).  The engine "
         "proves most OPT answers before the SAT oracle (`loop OPT by cheaper proofs`, "
         "mega_sat/tiered_opt.py); `loop OPT n` counts only those that reached it.  Seconds are "
-        "wall seconds per call; cached OPT answers are excluded.  Sizes are the largest "
+        f"wall seconds per call{_repeat_phrase(records)}; cached OPT answers are excluded; "
+        "`conflicts` are the SAT conflicts a call spent (they do not depend on the machine).  "
+        "Sizes are the largest "
         "encodings reached (variables / clauses / horizon).  Per-call limit: "
         f"{', '.join(_fmt_s(x) for x in limits) or 'n/a'} s; per-instance limit: "
         f"{', '.join(_fmt_s(x) for x in ilimits) or 'n/a'} s."
@@ -642,15 +738,16 @@ def render_table(records: Sequence[dict[str, Any]], machine: dict[str, Any], tar
     if s["slowest"]:
         parts.append(
             f"| instance | group | kind | selection | bounds | status | s | horizon | SAT calls "
-            f"| ≥ {_fmt_s(target)} s |"
+            f"| conflicts | ≥ {_fmt_s(target)} s |"
         )
-        parts.append("|---|---|---|---|---|---|---|---|---|---|")
+        parts.append("|---|---|---|---|---|---|---|---|---|---|---|")
         for r, c in s["slowest"]:
             parts.append(
                 f"| {r.get('domain')}/{r.get('problem')} | {c.get('group')} | {c.get('kind')} "
                 f"| {_selection(c)} | {_bounds(c)} | {c.get('status')} "
                 f"| {_fmt_s(c.get('seconds'))} | {c.get('horizon', '—')} "
-                f"| {c.get('sat_calls', '—')} | {'yes' if over_target(c, target) else 'no'} |"
+                f"| {c.get('sat_calls', '—')} | {_or_dash(c.get('conflicts'))} "
+                f"| {'yes' if over_target(c, target) else 'no'} |"
             )
     else:
         parts.append("No calls recorded.")
@@ -667,6 +764,8 @@ def call_rows(records: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
             row["selection"] = _selection(c)
         if c.get("lits") is not None:
             row["lits"] = " ".join(f"{i}={int(v)}" for i, v in c["lits"])
+        if c.get("seconds_runs") is not None:
+            row["seconds_runs"] = " ".join(f"{x:g}" for x in c["seconds_runs"])
         rows.append(row)
     return rows
 
@@ -698,11 +797,15 @@ def run_calls_bench(
     time_limit: float = DEFAULT_TIME_LIMIT,
     target: float = DEFAULT_TARGET,
     jobs: int = 1,
+    repeat: int = 1,
     fresh: bool = False,
     echo: Callable[[str], None] | None = None,
 ) -> dict[str, Path]:
     """Measure every base problem ``root/<domain>/pN`` matching ``only``; write the outputs.
+    Each instance runs ``repeat`` times (its calls timed by the median, :func:`merge_repeats`).
     Records already in ``out_dir`` for other instances are kept unless ``fresh``."""
+    if repeat < 1:
+        raise click.UsageError("--repeat must be >= 1")
     if not root.is_dir():
         raise click.UsageError(f"domains folder not found: {root}")
     insts = discover(root, "sweep", only)  # the base problems, same --only rules as bench
@@ -713,7 +816,7 @@ def run_calls_bench(
     t0 = time.perf_counter()
     with ThreadPoolExecutor(max_workers=max(1, jobs)) as ex:
         futs = {
-            ex.submit(run_instance, i.task_dir, call_limit, time_limit, i.domain, i.problem): i
+            ex.submit(_repeated, repeat, i.task_dir, call_limit, time_limit, i.domain, i.problem): i
             for i in insts
         }
         for n, fut in enumerate(as_completed(futs), 1):
@@ -734,10 +837,15 @@ def run_calls_bench(
             "wall_s": round(time.perf_counter() - t0, 1),
             "call_limit_s": call_limit,
             "time_limit_s": time_limit,
+            "repeat": repeat,
         },
     )
     ordered = sorted(records.values(), key=lambda r: (r.get("domain"), _pkey(r.get("problem"))))
     return write_outputs(out_dir, ordered, machine, target)
+
+
+def _repeated(repeat: int, *args) -> dict[str, Any]:
+    return merge_repeats([run_instance(*args) for _ in range(repeat)])
 
 
 @click.command("bench-calls")
@@ -778,6 +886,13 @@ def run_calls_bench(
     show_default=True,
     help="Instances in parallel (>1 skews timings).",
 )
+@click.option(
+    "--repeat",
+    type=int,
+    default=1,
+    show_default=True,
+    help="Runs per instance; each call is timed by the median over the runs.",
+)
 @_fresh_option
 def bench_calls_command(
     domains_dir: str,
@@ -787,6 +902,7 @@ def bench_calls_command(
     target: float,
     out_dir: str,
     jobs: int,
+    repeat: int,
     fresh: bool,
 ) -> None:
     """Time every SAT OPT and JOINT call on the base problems (encoding size, seconds)."""
@@ -804,6 +920,7 @@ def bench_calls_command(
         time_limit=time_limit,
         target=target,
         jobs=jobs,
+        repeat=repeat,
         fresh=fresh,
         echo=lambda s: click.echo(s, err=True),
     )
@@ -821,9 +938,11 @@ __all__ = [
     "CALL_STATUSES",
     "CallRecorder",
     "bench_calls_command",
+    "call_key",
     "count_encodings",
     "direct_selections",
     "measure",
+    "merge_repeats",
     "over_target",
     "render_table",
     "run_calls_bench",

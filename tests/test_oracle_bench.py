@@ -15,6 +15,7 @@ from mega_sat.cli import main
 from mega_sat.oracle_bench import (
     CALL_STATUSES,
     direct_selections,
+    merge_repeats,
     over_target,
     render_table,
     run_instance,
@@ -70,6 +71,10 @@ def test_bench_calls_on_usar_p1(tmp_path):
         assert c["status"] in CALL_STATUSES and c["status"] not in ("timeout", "error")
         assert c["kind"] in ("opt", "joint")
         assert c["seconds"] >= 0 and c["sat_calls"] >= 0
+        # conflicts are counted from the solvers themselves: no SAT call, no conflict
+        assert isinstance(c["conflicts"], int) and c["conflicts"] >= 0
+        if c["sat_calls"] == 0:
+            assert c["conflicts"] == 0
         assert c["opt_vars"] > 0 and c["joint_vars"] > 0 and c["joint_clauses"] > 0
         if c["kind"] == "joint":
             assert c["human_bound"] is not None and c["horizon"] >= 0
@@ -99,6 +104,40 @@ def test_killed_instance_is_a_timeout(monkeypatch):
     rec = run_instance(str(DOMAINS / "usar-fetch" / "p1"), 30.0, 60.0, "usar-fetch", "p1")
     assert rec["status"] == "timeout" and rec["killed"]
     assert rec["calls"] == []
+
+
+def test_repeat_must_be_positive(tmp_path):
+    res = CliRunner().invoke(
+        main, ["bench-calls", "--domains", str(DOMAINS), "--repeat", "0", "--out", str(tmp_path)]
+    )
+    assert res.exit_code == 2 and "--repeat must be >= 1" in res.output
+    assert not any(tmp_path.iterdir())
+
+
+def test_merge_repeats_takes_the_median_of_the_same_question():
+    a = {"group": "loop", "kind": "opt", "selection": [0]}
+    b = {"group": "loop", "kind": "joint", "selection": [0], "robot_bound": 5, "human_bound": 6}
+    lit = {"group": "loop", "kind": "joint", "lits": [[1, True]], "human_bound": 6}
+    run1 = {"status": "ok", "calls": [{**a, "seconds": 1.0}, {**b, "seconds": 0.1}]}
+    # the second run asks the same questions in another order, the same JOINT twice, and one more
+    run2 = {
+        "status": "ok",
+        "calls": [
+            {**b, "seconds": 0.3},
+            {**a, "seconds": 3.0},
+            {**b, "seconds": 9.0},
+            {**lit, "seconds": 0.2},
+        ],
+    }
+    run3 = {"status": "timeout", "killed": True, "calls": [{**a, "seconds": 2.0}]}
+    m = merge_repeats([run1, run2, run3])
+    opt, joint = m["calls"]
+    assert opt["seconds"] == 2.0 and opt["seconds_runs"] == [1.0, 3.0, 2.0]
+    # the first occurrence matches the first occurrence: 0.1 and 0.3, not 9.0
+    assert joint["seconds"] == 0.2 and joint["seconds_runs"] == [0.1, 0.3]
+    assert m["repeats"] == 3 and m["repeat_unmatched"] == 2
+    assert m["status"] == "timeout" and m["killed"]  # one unfinished run: not finished
+    assert merge_repeats([run1]) == run1
 
 
 def test_direct_selections_dedupe():
