@@ -70,6 +70,10 @@ CALL_FIELDS = (
     "sat_calls",
     "conflicts",
     "seconds",
+    "solve_s",
+    "grow_s",
+    "search_s",
+    "counting_s",
     "seconds_runs",
     "cached",
     "exact",
@@ -126,6 +130,23 @@ def sat_conflicts(orc) -> int | None:
     return total
 
 
+WORK_KEYS = ("solve_s", "grow_s", "search_s", "counting_s")
+
+
+def _work_seconds(orc) -> tuple[float, ...]:
+    """Seconds so far, in the order of ``WORK_KEYS``: inside SAT solver calls; growing the
+    encodings (new steps with their invariants, goal and cost clauses); OPT's lowered-cost
+    search; the operator-counting integer programs."""
+    grow = sum(getattr(getattr(orc, e, None), "grow_s", 0.0) for e in ("opt_enc", "joint_enc"))
+    st = orc.stats
+    return (
+        float(st.get("sat_solve_time_s", 0.0)),
+        grow,
+        float(st.get("sat_search_time_s", 0.0)),
+        float(st.get("sat_counting_time_s", 0.0)),
+    )
+
+
 class CallRecorder:
     """Wraps ``orc.opt`` and ``orc._joint`` of one oracle object: every call gets a deadline
     (``call_limit`` seconds, never past ``deadline``) and is recorded by ``sink``."""
@@ -169,6 +190,7 @@ class CallRecorder:
         orc = self.orc
         n_before = orc.stats.get(f"sat_{kind}_calls")
         conflicts_before = sat_conflicts(orc)
+        work_before = _work_seconds(orc)
         self._max_h = None
         limit = time.perf_counter() + self.call_limit
         orc.set_deadline(limit if self.deadline is None else min(limit, self.deadline))
@@ -213,6 +235,8 @@ class CallRecorder:
                 else conflicts_after - conflicts_before
             )
             rec["seconds"] = round(dt, 6)
+            for key, a, b in zip(WORK_KEYS, work_before, _work_seconds(orc), strict=True):
+                rec[key] = round(b - a, 6)
             # a cached OPT answer comes back without a new oracle computation
             unchanged = n_before is not None and orc.stats.get(f"sat_{kind}_calls") == n_before
             rec["cached"] = kind == "opt" and res is not None and (in_cache or unchanged)
@@ -451,12 +475,15 @@ def merge_repeats(runs: Sequence[dict[str, Any]]) -> dict[str, Any]:
     merged = []
     matched: set[tuple] = set()
     for key, c in indexed(base.get("calls", [])).items():
-        secs = [float(c.get("seconds") or 0.0)]
-        for o in others:
-            if key in o:
-                secs.append(float(o[key].get("seconds") or 0.0))
-                matched.add(key)
-        merged.append({**c, "seconds": round(statistics.median(secs), 6), "seconds_runs": secs})
+        same = [c] + [o[key] for o in others if key in o]
+        if len(same) > 1:
+            matched.add(key)
+        secs = [float(x.get("seconds") or 0.0) for x in same]
+        m = {**c, "seconds": round(statistics.median(secs), 6), "seconds_runs": secs}
+        for k in WORK_KEYS:  # the parts too, each by its own median
+            if all(x.get(k) is not None for x in same):
+                m[k] = round(statistics.median(float(x[k]) for x in same), 6)
+        merged.append(m)
     base["calls"] = merged
     base["repeats"] = len(runs)
     base["repeat_statuses"] = [r.get("status") for r in runs]
@@ -695,7 +722,10 @@ def render_table(records: Sequence[dict[str, Any]], machine: dict[str, Any], tar
         "proves most OPT answers before the SAT oracle (`loop OPT by cheaper proofs`, "
         "mega_sat/tiered_opt.py); `loop OPT n` counts only those that reached it.  Seconds are "
         f"wall seconds per call{_repeat_phrase(records)}; cached OPT answers are excluded; "
-        "`conflicts` are the SAT conflicts a call spent (they do not depend on the machine).  "
+        "`conflicts` are the SAT conflicts a call spent (they do not depend on the machine); "
+        "of its seconds, `solve s` were spent inside the SAT solver, `grow s` growing the "
+        "encodings (new steps, invariants, goal and cost clauses) and `search s` in OPT's "
+        "lowered-cost search.  "
         "Sizes are the largest "
         "encodings reached (variables / clauses / horizon).  Per-call limit: "
         f"{', '.join(_fmt_s(x) for x in limits) or 'n/a'} s; per-instance limit: "
@@ -738,16 +768,17 @@ def render_table(records: Sequence[dict[str, Any]], machine: dict[str, Any], tar
     if s["slowest"]:
         parts.append(
             f"| instance | group | kind | selection | bounds | status | s | horizon | SAT calls "
-            f"| conflicts | ≥ {_fmt_s(target)} s |"
+            f"| conflicts | solve s | grow s | search s | ≥ {_fmt_s(target)} s |"
         )
-        parts.append("|---|---|---|---|---|---|---|---|---|---|---|")
+        parts.append("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
         for r, c in s["slowest"]:
             parts.append(
                 f"| {r.get('domain')}/{r.get('problem')} | {c.get('group')} | {c.get('kind')} "
                 f"| {_selection(c)} | {_bounds(c)} | {c.get('status')} "
                 f"| {_fmt_s(c.get('seconds'))} | {c.get('horizon', '—')} "
                 f"| {c.get('sat_calls', '—')} | {_or_dash(c.get('conflicts'))} "
-                f"| {'yes' if over_target(c, target) else 'no'} |"
+                f"| {_fmt_s(c.get('solve_s'))} | {_fmt_s(c.get('grow_s'))} "
+                f"| {_fmt_s(c.get('search_s'))} | {'yes' if over_target(c, target) else 'no'} |"
             )
     else:
         parts.append("No calls recorded.")
@@ -936,6 +967,7 @@ if __name__ == "__main__":
 
 __all__ = [
     "CALL_STATUSES",
+    "WORK_KEYS",
     "CallRecorder",
     "bench_calls_command",
     "call_key",

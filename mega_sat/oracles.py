@@ -302,6 +302,7 @@ class SatOracles:
             "sat_opt_calls": 0,
             "sat_joint_calls": 0,
             "sat_solver_calls": 0,
+            "sat_solve_time_s": 0.0,
             "sat_opt_time_s": 0.0,
             "sat_joint_time_s": 0.0,
             "sat_core_min_calls": 0,
@@ -370,6 +371,7 @@ class SatOracles:
         self.close()
 
     def _update_size_stats(self) -> None:
+        self.stats["sat_grow_time_s"] = self.opt_enc.grow_s + self.joint_enc.grow_s
         for name, enc in (("opt", self.opt_enc), ("joint", self.joint_enc)):
             size = enc.size()
             self.stats[f"sat_{name}_vars"] = size.variables
@@ -434,10 +436,16 @@ class SatOracles:
         c, extra = self._opt_extra[sel]
         if c <= 0:
             return None
+        t0 = time.perf_counter()
         x, plan = extra_cost_search(self.task(sel), c, self.opt_extra_node_limit)
+        self.stats["sat_search_time_s"] = (
+            self.stats.get("sat_search_time_s", 0.0) + time.perf_counter() - t0
+        )
         self._opt_extra[sel] = (c, max(extra, x))
         self._searches_hit += plan is not None
         self._searches_missed += plan is None
+        self.stats["sat_search_hits"] = self._searches_hit
+        self.stats["sat_search_misses"] = self._searches_missed
         return plan
 
     def _search_first(self, task: GroundTask) -> bool:
@@ -464,7 +472,9 @@ class SatOracles:
         while True:
             chunk = self.solve_chunk if left is None else min(self.solve_chunk, left)
             solver.conf_budget(chunk)
+            t0 = time.perf_counter()
             r = solver.solve_limited(assumptions=assumptions, expect_interrupt=True)
+            self.stats["sat_solve_time_s"] += time.perf_counter() - t0
             if r is not None:
                 return r
             self._check_interrupt()

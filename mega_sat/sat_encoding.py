@@ -18,6 +18,7 @@ CNF being written), so the same code serves the oracles and the DIMACS export.
 from __future__ import annotations
 
 import math
+import time
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 
@@ -83,6 +84,9 @@ class FamilyEncoding:
         self.symmetry_breaking = symmetry_breaking
         self._sink = sink
         self.n_clauses = 0
+        # seconds spent growing the formula after construction (steps, invariants, goal and
+        # cost clauses): building work that happens lazily inside oracle calls
+        self.grow_s = 0.0
         self.top = family.n_updates
         self.n_actions = len(family.actions)
         self.n_atoms = len(family.atoms)
@@ -316,8 +320,12 @@ class FamilyEncoding:
     # ------------------------------------------------------------- extension
     def extend(self, horizon: int) -> None:
         """Append step layers until the encoding has ``horizon`` steps."""
+        if self.horizon >= horizon:
+            return
+        t0 = time.perf_counter()
         while self.horizon < horizon:
             self._add_step()
+        self.grow_s += time.perf_counter() - t0
 
     def _add_step(self) -> None:
         self._ensure_facts()
@@ -471,6 +479,7 @@ class FamilyEncoding:
         self.extend(h)
         g = self.goal_act.get(h)
         if g is None:
+            t0 = time.perf_counter()
             g = self._alloc(1) + 1
             self.goal_act[h] = g
             # no action is needed fewer steps before the goal than its backward layer
@@ -486,6 +495,7 @@ class FamilyEncoding:
                     if gv is not True:
                         lits.insert(1, -self._resolve(gv, None))
                     self._emit(lits)
+            self.grow_s += time.perf_counter() - t0
         out = [g]
         if self.horizon > h and self.symmetry_breaking:
             out.append(-self.act[h])
@@ -514,6 +524,7 @@ class FamilyEncoding:
         if b >= len(units) or b >= horizon * self.max_units:
             return []  # cannot bite (goal_assumptions(horizon) idles the later steps)
         tot = self._tot[copy]
+        t0 = time.perf_counter()
         if tot is None:
             tot = ITotalizer(lits=units, ubound=b + 1, top_id=self.top)
             self._tot[copy] = tot
@@ -521,6 +532,7 @@ class FamilyEncoding:
         elif tot.ubound < b + 1:
             tot.increase(ubound=b + 1, top_id=self.top)
             self._take_totalizer_clauses(tot, tot.nof_new)
+        self.grow_s += time.perf_counter() - t0
         return [-tot.rhs[b]]
 
     # ---------------------------------------------------------------- decode

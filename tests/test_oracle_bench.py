@@ -75,6 +75,11 @@ def test_bench_calls_on_usar_p1(tmp_path):
         assert isinstance(c["conflicts"], int) and c["conflicts"] >= 0
         if c["sat_calls"] == 0:
             assert c["conflicts"] == 0
+        # the parts of a call are disjoint pieces of its wall time
+        parts = [c[k] for k in oracle_bench.WORK_KEYS]
+        assert all(x >= 0 for x in parts) and sum(parts) <= c["seconds"] + 1e-4
+        if c["sat_calls"] == 0:
+            assert c["solve_s"] == 0
         assert c["opt_vars"] > 0 and c["joint_vars"] > 0 and c["joint_clauses"] > 0
         if c["kind"] == "joint":
             assert c["human_bound"] is not None and c["horizon"] >= 0
@@ -118,21 +123,22 @@ def test_merge_repeats_takes_the_median_of_the_same_question():
     a = {"group": "loop", "kind": "opt", "selection": [0]}
     b = {"group": "loop", "kind": "joint", "selection": [0], "robot_bound": 5, "human_bound": 6}
     lit = {"group": "loop", "kind": "joint", "lits": [[1, True]], "human_bound": 6}
-    run1 = {"status": "ok", "calls": [{**a, "seconds": 1.0}, {**b, "seconds": 0.1}]}
+    run1 = {"status": "ok", "calls": [{**a, "seconds": 1.0, "solve_s": 0.5}, {**b, "seconds": 0.1}]}
     # the second run asks the same questions in another order, the same JOINT twice, and one more
     run2 = {
         "status": "ok",
         "calls": [
             {**b, "seconds": 0.3},
-            {**a, "seconds": 3.0},
+            {**a, "seconds": 3.0, "solve_s": 2.5},
             {**b, "seconds": 9.0},
             {**lit, "seconds": 0.2},
         ],
     }
-    run3 = {"status": "timeout", "killed": True, "calls": [{**a, "seconds": 2.0}]}
+    run3 = {"status": "timeout", "killed": True, "calls": [{**a, "seconds": 2.0, "solve_s": 0.1}]}
     m = merge_repeats([run1, run2, run3])
     opt, joint = m["calls"]
     assert opt["seconds"] == 2.0 and opt["seconds_runs"] == [1.0, 3.0, 2.0]
+    assert opt["solve_s"] == 0.5  # each part by its own median
     # the first occurrence matches the first occurrence: 0.1 and 0.3, not 9.0
     assert joint["seconds"] == 0.2 and joint["seconds_runs"] == [0.1, 0.3]
     assert m["repeats"] == 3 and m["repeat_unmatched"] == 2
