@@ -86,6 +86,22 @@ class JointResult:
     time_s: float
 
 
+# Options for CaDiCaL (both versions) as the oracles' solver: bounded variable elimination
+# off.  Measured with bench-calls on the 12 shipped problems (this machine, 2026-11-23): the
+# conflicts of every oracle call fell by 7 % on barman-bar/p3 (97,902 -> 91,496) and 13 % on
+# rover-martian/p3 (80,003 -> 69,951), the time inside the solver by 7 % in all, and the
+# calls >= 0.5 s from 9 to 6; no problem got slower beyond noise.
+CADICAL_OPTIONS = {"elim": 0}
+
+
+def new_solver(name: str) -> Solver:
+    """A python-sat solver for the oracles, with :data:`CADICAL_OPTIONS` for CaDiCaL."""
+    solver = Solver(name=name)
+    if name.startswith("cadical"):
+        solver.solver.configure(CADICAL_OPTIONS)
+    return solver
+
+
 def _supports_interrupt(solver: Solver) -> bool:
     try:
         solver.clear_interrupt()
@@ -242,8 +258,8 @@ class SatOracles:
         # JOINT horizon when zero-cost actions make cost bounds useless for plan length
         self._zero_cost_horizon = min(horizon_cap, 2 * len(family.atoms) + 1)
         self._shared_facts: EncodingFacts | None = None
-        self._opt_solver = Solver(name=solver)
-        self._joint_solver = Solver(name=solver)
+        self._opt_solver = new_solver(solver)
+        self._joint_solver = new_solver(solver)
         self.opt_enc = FamilyEncoding(
             family,
             self._opt_solver.add_clause,
