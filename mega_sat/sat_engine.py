@@ -76,6 +76,11 @@ def sat_frontier(
     exact = True
 
     def opt_of(sel):
+        if deadline is not None:
+            # the explicit planners get what is left of the time limit (the SAT oracle has the
+            # deadline itself); one that runs out answers "unknown" and the SAT fallback below
+            # is then interrupted at once
+            opt_planner.time_limit = max(deadline - time.perf_counter(), 0.001)
         r = tiered.optimal(sel)
         if r.status == "unknown" and planner != "sat":
             r = NodePlanner(task, family, "sat", oracles=orc).optimal(sel)

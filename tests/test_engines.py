@@ -173,3 +173,23 @@ def test_anytime_returns_lower_bound():
     assert not fr.complete and not fr.exact
     assert fr.next_size_lower_bound is not None
     assert any("time limit" in n for n in fr.notes)
+
+
+@pytest.mark.parametrize("planner", ["builtin", "sat"])
+def test_time_limit_bounds_the_explicit_opt_planner(planner):
+    """The sat engine's OPT planner gets what is left of the time limit.  barman-bar Δ=15 p3
+    has human models whose optimum takes the built-in planner more than a minute; before the
+    planner got the limit, a 3 s run took 71 s."""
+    import time
+    from pathlib import Path
+
+    from mega_sat.api import MegaSolver
+    from mega_sat.loading import load_task, resolve_task_dir
+
+    d = Path(__file__).resolve().parent.parent / "domains" / "barman-bar" / "delta" / "15" / "p3"
+    task = load_task(**resolve_task_dir(str(d)))
+    t0 = time.perf_counter()
+    fr = MegaSolver(task, planner=planner, timeout=3.0).frontier()
+    assert time.perf_counter() - t0 < 3.0 + 4.0
+    assert not fr.complete and not fr.exact
+    assert any("time limit 3.0s reached" in n for n in fr.notes)
