@@ -32,6 +32,8 @@ ENGINES = ("sat", "astar")
 __all__ = [
     "ENGINES",
     "MegaSolver",
+    "default_joint",
+    "default_planner",
     "explain",
     "frontier",
     "load_task",
@@ -51,6 +53,23 @@ def _check_alpha(alpha: float) -> float:
     return a
 
 
+def default_planner(engine: str, family: GroundFamily) -> str:
+    """``builtin`` for ``astar`` (the paper's per-node planner) and for tasks with zero-cost
+    actions; else ``sat``.  The SAT OPT oracle is the faster one where models get hard:
+    ``mega-sat frontier`` on rover-martian Δ=7 p3 takes 1.2 s with SAT OPT and JOINT against
+    15.3 s with the built-in planner and the portfolio, blocksworld Δ=10 p3 1.4 s against 27 s
+    (docs/benchmarks.md, "Engine defaults")."""
+    if engine != "sat" or family.min_cost <= 0:
+        return "builtin"
+    return "sat"
+
+
+def default_joint(family: GroundFamily) -> str:
+    """``sat``, or ``portfolio`` (SAT within a conflict budget, then the explicit search) for
+    tasks with zero-cost actions, where bounded horizons prove nothing."""
+    return "portfolio" if family.min_cost <= 0 else "sat"
+
+
 class MegaSolver:
     """One task with its ground family and solvers kept alive across calls.
 
@@ -60,6 +79,10 @@ class MegaSolver:
     and MCE's.  ``joint``: how the ``sat`` engine answers JOINT: ``portfolio`` (SAT with a
     conflict budget, then explicit paired-state search), ``sat`` or ``search``; all exact.
     ``hitting_set``: ``rc2`` or ``ilp``.
+
+    Defaults (``None``, see :func:`default_planner`): ``astar`` uses ``builtin``; ``sat`` uses
+    SAT for both OPT and JOINT, unless some action costs 0, where the horizon argument fails
+    and ``builtin`` with ``portfolio`` keep the answers exact.
     """
 
     def __init__(
@@ -71,7 +94,7 @@ class MegaSolver:
         hitting_set: str = "rc2",
         solver: str = "cadical195",
         timeout: float | None = None,
-        joint: str = "portfolio",
+        joint: str | None = None,
     ):
         if engine not in ENGINES:
             raise UsageError(f"unknown engine {engine!r} (choose from {', '.join(ENGINES)})")
@@ -81,18 +104,32 @@ class MegaSolver:
             raise UsageError(f"timeout must be > 0 seconds, got {timeout!r}")
         from mega_sat.sat_engine import JOINT_METHODS
 
-        if joint not in JOINT_METHODS:
+        if joint is not None and joint not in JOINT_METHODS:
             raise UsageError(
                 f"unknown JOINT method {joint!r} (choose from {', '.join(JOINT_METHODS)})"
             )
-        self.joint = joint
+        self._joint = joint
         self.task = task
         self.engine = engine
-        self.planner = planner or "builtin"
+        self._planner = planner
         self.hitting_set = hitting_set
         self.solver = solver
         self.timeout = timeout
         self._frontier: Frontier | None = None
+
+    @property
+    def planner(self) -> str:
+        """The optimal planner for candidate models (given, or :func:`default_planner`)."""
+        if self._planner is None:
+            self._planner = default_planner(self.engine, self.family)
+        return self._planner
+
+    @property
+    def joint(self) -> str:
+        """How the ``sat`` engine answers JOINT (given, or :func:`default_joint`)."""
+        if self._joint is None:
+            self._joint = default_joint(self.family)
+        return self._joint
 
     @cached_property
     def family(self) -> GroundFamily:

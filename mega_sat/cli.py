@@ -363,18 +363,18 @@ def engine_options(fn):
         click.option(
             "--planner",
             type=PLANNER,
-            default="builtin",
-            show_default=True,
+            default=None,
             help="Optimal planner for candidate models: per-node planner of astar, "
-            "OPT oracle of sat.",
+            "OPT oracle of sat.  [default: builtin for astar; sat for the sat engine, "
+            "builtin if some action costs 0]",
         ),
         click.option(
             "--joint",
             type=click.Choice(["portfolio", "sat", "search"]),
-            default="portfolio",
-            show_default=True,
+            default=None,
             help="How the sat engine answers JOINT: SAT with a conflict budget then "
-            "explicit search, SAT only, or search only (all exact).",
+            "explicit search, SAT only, or search only (all exact).  [default: sat; "
+            "portfolio if some action costs 0]",
         ),
         click.option("--hitting-set", type=HITTING, default="rc2", show_default=True),
         click.option(
@@ -623,8 +623,7 @@ def explain(plan_file, planner, hitting_set, timeout, as_json, do_verify, verbos
     type=PLANNER,
     default=None,
     help="Planner that re-derives the optimum of human + E (default: fd when "
-    "installed, else sat: not the built-in planner that produces answers by "
-    "default).",
+    "installed, else builtin: not the SAT oracle that answers OPT by default).",
 )
 @click.option("--json", "as_json", is_flag=True)
 @_friendly
@@ -637,7 +636,7 @@ def verify(explanation, plan_file, checker, as_json, verbose, **kw):
     task = _task_from(kw)
     sel = _read_explanation(task, explanation)
     steps = read_plan(plan_file)
-    rep = verify_pair(task, ground(task), sel, steps, producer="builtin", checker=checker)
+    rep = verify_pair(task, ground(task), sel, steps, producer="sat", checker=checker)
     if as_json:
         click.echo(json.dumps(rep.to_dict(), indent=2))
     else:

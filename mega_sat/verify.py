@@ -45,13 +45,16 @@ class VerifyReport:
 
 
 def checker_for(producer: str) -> str:
-    """The planner used to re-derive the optimum: never the one that produced the answer
-    (Fast Downward when installed, else the SAT OPT oracle, for built-in results)."""
-    if producer in ("sat", "fd"):
+    """The planner used to re-derive the optimum: never the one that produced the answer.
+    Fast Downward when installed (for built-in or SAT results), else the built-in planner for
+    SAT or Fast Downward results and the SAT OPT oracle for built-in ones."""
+    if producer == "fd":
         return "builtin"
     from mega_sat.fast_downward import fd_available
 
-    return "fd" if fd_available() else "sat"
+    if fd_available():
+        return "fd"
+    return "builtin" if producer == "sat" else "sat"
 
 
 def verify_pair(
