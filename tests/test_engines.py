@@ -193,3 +193,31 @@ def test_time_limit_bounds_the_explicit_opt_planner(planner):
     assert time.perf_counter() - t0 < 3.0 + 4.0
     assert not fr.complete and not fr.exact
     assert any("time limit 3.0s reached" in n for n in fr.notes)
+
+
+@settings(SETTINGS, max_examples=80)
+@given(st.one_of(two_model_tasks(max_delta=5, allow_zero_cost=True), tradeoff_tasks()))
+def test_default_engine_settings_follow_the_costs_and_stay_exact(task):
+    """MegaSolver's defaults: SAT for OPT and JOINT, except with zero-cost actions (where the
+    horizon argument proves nothing): the built-in planner and the portfolio.  Either way the
+    frontier is the brute-force one."""
+    from mega_sat.api import MegaSolver
+
+    fam = ground(task)
+    zero = fam.min_cost <= 0
+    s = MegaSolver(task)
+    assert s.planner == ("builtin" if zero else "sat")
+    assert s.joint == ("portfolio" if zero else "sat")
+    assert MegaSolver(task, engine="astar").planner == "builtin"
+    assert MegaSolver(task, planner="fd", joint="search").joint == "search"
+    got = _solvable(task)
+    if got is None:
+        with pytest.raises(UnsolvableError):
+            s.frontier()
+        return
+    _, c_r, pts, _ = got
+    fr = s.frontier()
+    assert fr.robot_optimal_cost == c_r
+    assert _pairs(fr.points) == _pairs(pts)
+    assert fr.complete and (fr.exact or zero)
+    assert fr.stats["opt_planner"] == s.planner and fr.stats["joint"] == s.joint
