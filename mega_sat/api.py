@@ -56,8 +56,8 @@ def _check_alpha(alpha: float) -> float:
 def default_planner(engine: str, family: GroundFamily) -> str:
     """``builtin`` for ``astar`` (the paper's per-node planner) and for tasks with zero-cost
     actions; else ``sat``.  The SAT OPT oracle is the faster one where models get hard:
-    ``mega-sat frontier`` on rover-martian Δ=7 p3 takes 1.2 s with SAT OPT and JOINT against
-    15.3 s with the built-in planner and the portfolio, blocksworld Δ=10 p3 1.4 s against 27 s
+    ``mega-sat frontier`` on rover-martian Δ=7 p3 takes 1.24 s with SAT OPT and JOINT against
+    15.7 s with the built-in planner and the portfolio, blocksworld Δ=10 p3 1.4 s against 27 s
     (docs/benchmarks.md, "Engine defaults")."""
     if engine != "sat" or family.min_cost <= 0:
         return "builtin"
