@@ -872,10 +872,19 @@ def render_markdown(
     )
     planners = sorted({str(r.get("planner")) for r in records if r.get("engine") == "astar"})
     if planners:
+        ways = {"sat": "SAT", "portfolio": "SAT, then explicit search", "search": "explicit search"}
+        joints = sorted(
+            {
+                ways.get(str(j), str(j))
+                for r in records
+                if r.get("engine") == "sat" and (j := (r.get("stats") or {}).get("joint"))
+            }
+        )
         parts.append(
             f"Optimal planner on candidate models: {', '.join(planners)} for both engines "
-            "(A*: per node; sat: OPT, after its cheaper proofs; JOINT by SAT, then explicit "
-            "search)."
+            "(A*: per node; sat: OPT, after its cheaper proofs"
+            + (f"; JOINT by {' / '.join(joints)}" if joints else "")
+            + ")."
         )
     parts.append("")
     if "paper" in suites:
