@@ -454,9 +454,7 @@ class SatOracles:
             return None
         t0 = time.perf_counter()
         x, plan = extra_cost_search(self.task(sel), c, self.opt_extra_node_limit)
-        self.stats["sat_search_time_s"] = (
-            self.stats.get("sat_search_time_s", 0.0) + time.perf_counter() - t0
-        )
+        self._add_seconds("sat_search_time_s", t0)
         self._opt_extra[sel] = (c, max(extra, x))
         self._searches_hit += plan is not None
         self._searches_missed += plan is None
@@ -490,7 +488,7 @@ class SatOracles:
             solver.conf_budget(chunk)
             t0 = time.perf_counter()
             r = solver.solve_limited(assumptions=assumptions, expect_interrupt=True)
-            self.stats["sat_solve_time_s"] += time.perf_counter() - t0
+            self._add_seconds("sat_solve_time_s", t0)
             if r is not None:
                 return r
             self._check_interrupt()
@@ -498,6 +496,10 @@ class SatOracles:
                 left -= chunk
                 if left <= 0:
                     return None
+
+    def _add_seconds(self, key: str, t0: float) -> None:
+        """Add the seconds since ``t0`` to the timing stat ``key``."""
+        self.stats[key] = self.stats.get(key, 0.0) + time.perf_counter() - t0
 
     def _finish(self, kind: str, t0: float) -> float:
         dt = time.perf_counter() - t0
@@ -641,9 +643,7 @@ class SatOracles:
         self._counting_tries += 1
         self._counting_gains += got is not None and got > above
         self.stats["sat_counting_calls"] = self.stats.get("sat_counting_calls", 0) + 1
-        self.stats["sat_counting_time_s"] = (
-            self.stats.get("sat_counting_time_s", 0.0) + time.perf_counter() - t0
-        )
+        self._add_seconds("sat_counting_time_s", t0)
         return got
 
     def _counting_on(self) -> bool:
