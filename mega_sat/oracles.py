@@ -215,7 +215,7 @@ class SatOracles:
     ``horizon_cap`` bounds the number of steps ever encoded; ``core_calls`` bounds the SAT
     calls spent minimizing one core (a core that is not fully minimized is still sound);
     ``fallback_node_limit`` bounds the explicit-state search used when OPT hits the cap;
-    ``solve_chunk`` is the conflict chunk between interrupt/deadline checks;
+    ``solve_chunk`` caps the conflict chunk between interrupt/deadline checks;
     ``extra_node_limit`` bounds the explicit search that makes the robot copy's step bound
     exact (:func:`extra_cost_exact`); an OPT proof that is still undecided after
     ``opt_probe_budget`` conflicts gets the same search for its selection, with
@@ -313,6 +313,7 @@ class SatOracles:
         self._deadline: float | None = None
         self._timer: threading.Timer | None = None
         self.solve_chunk = solve_chunk
+        self._rate: dict[int, float] = {}  # measured seconds per conflict, per solver
         self._native_interrupt = _supports_interrupt(self._joint_solver)
         self.stats: dict[str, float | int] = {
             "sat_opt_calls": 0,
@@ -347,7 +348,7 @@ class SatOracles:
 
         If no call is running, the next solver call raises instead.  Solvers with a native
         interrupt (MiniSat/Glucose family) stop at once; CaDiCaL, which pysat cannot interrupt,
-        stops at the end of its current conflict chunk (``solve_chunk`` conflicts).
+        stops at the end of its current conflict chunk (about ``CHUNK_SECONDS``).
         """
         self._interrupted = True
         if self._native_interrupt:
@@ -474,9 +475,13 @@ class SatOracles:
     def _solve(self, solver: Solver, assumptions: list[int], budget: int | None = None):
         """One SAT call: ``True``/``False``, or ``None`` if ``budget`` conflicts ran out.
 
-        Runs in chunks of ``solve_chunk`` conflicts (``solve_limited(expect_interrupt=True)``)
-        and checks for an interrupt or a passed deadline before and between chunks; an
-        interrupted call raises :class:`OracleInterrupted` and proves nothing.
+        Runs in conflict chunks (``solve_limited(expect_interrupt=True)``) and checks for an
+        interrupt or a passed deadline before and between chunks; an interrupted call raises
+        :class:`OracleInterrupted` and proves nothing.  A chunk is sized from the solver's
+        measured seconds per conflict to last about ``CHUNK_SECONDS`` (never past the deadline,
+        never more than ``solve_chunk`` conflicts): CaDiCaL holds the GIL, so the deadline timer
+        can only act between chunks, and a fixed 20,000-conflict chunk overran ``--timeout``
+        by 5 s on barman-bar Δ=20 p2.  Chunk sizes do not change the answers.
         """
         self._check_interrupt()
         if budget is not None and budget <= 0:
@@ -484,18 +489,34 @@ class SatOracles:
         self.stats["sat_solver_calls"] += 1
         left = budget
         while True:
-            chunk = self.solve_chunk if left is None else min(self.solve_chunk, left)
+            chunk = self._chunk(solver)
+            if left is not None:
+                chunk = min(chunk, left)
             solver.conf_budget(chunk)
             t0 = time.perf_counter()
             r = solver.solve_limited(assumptions=assumptions, expect_interrupt=True)
             self._add_seconds("sat_solve_time_s", t0)
             if r is not None:
                 return r
+            self._rate[id(solver)] = (time.perf_counter() - t0) / chunk
             self._check_interrupt()
             if left is not None:
                 left -= chunk
                 if left <= 0:
                     return None
+
+    CHUNK_SECONDS = 0.2
+    FIRST_CHUNK = 1000
+
+    def _chunk(self, solver: Solver) -> int:
+        """Conflicts for the next chunk on ``solver`` (see :meth:`_solve`)."""
+        rate = self._rate.get(id(solver))
+        if rate is None:
+            return min(self.solve_chunk, self.FIRST_CHUNK)
+        seconds = self.CHUNK_SECONDS
+        if self._deadline is not None:
+            seconds = min(seconds, max(self._deadline - time.perf_counter(), 0.01))
+        return max(1, min(self.solve_chunk, int(seconds / max(rate, 1e-9))))
 
     def _add_seconds(self, key: str, t0: float) -> None:
         """Add the seconds since ``t0`` to the timing stat ``key``."""

@@ -239,6 +239,24 @@ def test_interrupt_and_deadline_leave_oracles_usable():
         orc.set_deadline(None)
 
 
+def _add_pigeonhole(orc: SatOracles, n: int = 11, m: int = 10) -> int:
+    """Add a pigeonhole formula (``n`` pigeons, ``m`` holes) to the JOINT solver behind a fresh
+    guard literal, which is returned: assumed, it makes a solver call hard (9/8 was once
+    refuted by CaDiCaL inside a 0.3 s deadline)."""
+    top = orc.joint_enc.top
+    v = [[top + i * m + j + 1 for j in range(m)] for i in range(n)]
+    act = top + n * m + 1
+    orc.joint_enc.top += n * m + 1
+    s = orc._joint_solver
+    for i in range(n):
+        s.add_clause([-act, *v[i]])
+    for j in range(m):
+        for a in range(n):
+            for b in range(a + 1, n):
+                s.add_clause([-act, -v[a][j], -v[b][j]])
+    return act
+
+
 @pytest.mark.parametrize("solver", ["glucose4", "cadical195"])
 def test_deadline_interrupts_a_long_call(solver):
     """A call that would run long is stopped near the deadline (CaDiCaL: after a chunk)."""
@@ -248,21 +266,8 @@ def test_deadline_interrupts_a_long_call(solver):
 
     fam = _chain(3)
     with SatOracles(fam, solver=solver, solve_chunk=50) as orc:
-        # a pigeonhole formula (11 pigeons, 10 holes) makes the next solver call hard (9/8 was
-        # once refuted by CaDiCaL inside the 0.3 s deadline)
-        n, m = 11, 10
-        top = orc.joint_enc.top
-        v = [[top + i * m + j + 1 for j in range(m)] for i in range(n)]
-        orc.joint_enc.top += n * m
+        act = _add_pigeonhole(orc)
         s = orc._joint_solver
-        act = top + n * m + 1
-        orc.joint_enc.top += 1
-        for i in range(n):
-            s.add_clause([-act, *v[i]])
-        for j in range(m):
-            for a in range(n):
-                for b in range(a + 1, n):
-                    s.add_clause([-act, -v[a][j], -v[b][j]])
         t0 = time.perf_counter()
         orc.set_deadline(t0 + 0.3)
         with pytest.raises(OracleInterrupted):
@@ -272,6 +277,27 @@ def test_deadline_interrupts_a_long_call(solver):
         # the oracle still answers after an interrupt (the pigeonhole switched off first: left
         # free, its guard may be decided true and the solver would grind on it)
         s.add_clause([-act])
+        assert orc.joint(frozenset(), None, 3).robot_cost == 3
+
+
+def test_cadical_chunks_follow_the_deadline_not_the_chunk_cap():
+    """CaDiCaL holds the GIL, so the deadline only acts between conflict chunks; with no
+    useful cap on the chunk (``solve_chunk`` huge) the chunks are sized by the measured
+    seconds per conflict and the time left, and the call still stops near the deadline (a
+    fixed chunk overran ``--timeout`` by 5 s on barman-bar Δ=20 p2)."""
+    import time
+
+    from mega_sat.oracles import OracleInterrupted
+
+    with SatOracles(_chain(3), solver="cadical195", solve_chunk=10**9) as orc:
+        act = _add_pigeonhole(orc, 12, 11)
+        t0 = time.perf_counter()
+        orc.set_deadline(t0 + 0.3)
+        with pytest.raises(OracleInterrupted):
+            orc._solve(orc._joint_solver, [act])
+        assert time.perf_counter() - t0 < 1.5
+        orc.set_deadline(None)
+        orc._joint_solver.add_clause([-act])
         assert orc.joint(frozenset(), None, 3).robot_cost == 3
 
 
