@@ -24,6 +24,7 @@ from mega_sat.errors import UsageError
 from mega_sat.family import GroundFamily, PlanStep
 from mega_sat.loading import load_task, load_task_from_strings
 from mega_sat.results import Explanation, Frontier, FrontierPoint, Solution, choose
+from mega_sat.sat_engine import default_joint, default_planner
 from mega_sat.task import TwoModelTask
 from mega_sat.verify import VerifyReport, verify_pair
 
@@ -51,23 +52,6 @@ def _check_alpha(alpha: float) -> float:
     if not a >= 0 or a == float("inf"):
         raise UsageError(f"alpha must be a finite number >= 0, got {alpha!r}")
     return a
-
-
-def default_planner(engine: str, family: GroundFamily) -> str:
-    """``builtin`` for ``astar`` (the paper's per-node planner) and for tasks with zero-cost
-    actions; else ``sat``.  The SAT OPT oracle is the faster one where models get hard:
-    ``mega-sat frontier`` on rover-martian Δ=7 p3 takes 1.24 s with SAT OPT and JOINT against
-    15.7 s with the built-in planner and the portfolio, blocksworld Δ=10 p3 1.4 s against 27 s
-    (docs/benchmarks.md, "Engine defaults")."""
-    if engine != "sat" or family.min_cost <= 0:
-        return "builtin"
-    return "sat"
-
-
-def default_joint(family: GroundFamily) -> str:
-    """``sat``, or ``portfolio`` (SAT within a conflict budget, then the explicit search) for
-    tasks with zero-cost actions, where bounded horizons prove nothing."""
-    return "portfolio" if family.min_cost <= 0 else "sat"
 
 
 class MegaSolver:

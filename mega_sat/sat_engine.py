@@ -29,16 +29,33 @@ from mega_sat.task import TwoModelTask
 from mega_sat.tiered_opt import TieredOpt
 
 
+def default_planner(engine: str, family: GroundFamily) -> str:
+    """``builtin`` for ``astar`` (the paper's per-node planner) and for tasks with zero-cost
+    actions; else ``sat``.  The SAT OPT oracle is the faster one where models get hard:
+    ``mega-sat frontier`` on rover-martian Δ=7 p3 takes 1.24 s with SAT OPT and JOINT against
+    15.7 s with the built-in planner and the portfolio, blocksworld Δ=10 p3 1.4 s against 27 s
+    (docs/benchmarks.md, "Engine defaults")."""
+    if engine != "sat" or family.min_cost <= 0:
+        return "builtin"
+    return "sat"
+
+
+def default_joint(family: GroundFamily) -> str:
+    """``sat``, or ``portfolio`` (SAT within a conflict budget, then the explicit search) for
+    tasks with zero-cost actions, where bounded horizons prove nothing."""
+    return "portfolio" if family.min_cost <= 0 else "sat"
+
+
 def sat_frontier(
     task: TwoModelTask,
     family: GroundFamily,
     *,
     oracles=None,
-    planner: str = "builtin",
+    planner: str | None = None,
     hitting_set: str = "rc2",
     solver: str = "cadical195",
     timeout: float | None = None,
-    joint: str = "portfolio",
+    joint: str | None = None,
     joint_conflict_budget: int | None = None,
     core_search_factor: float = 3.0,
 ) -> Frontier:
@@ -46,18 +63,21 @@ def sat_frontier(
 
     ``planner`` answers OPT (the optimal cost of a candidate model): ``builtin`` (explicit
     A* with LM-cut, exact by admissibility; falls back to the SAT OPT oracle if it gives up),
-    ``sat`` (the SAT OPT oracle, exact by the horizon argument) or ``fd``.
+    ``sat`` (the SAT OPT oracle, exact by the horizon argument) or ``fd``; ``None``:
+    :func:`default_planner`.
 
     ``joint`` answers JOINT, the check that gives cores: ``sat`` (the SAT oracle alone),
     ``search`` (the explicit product search of :mod:`mega_sat.joint_search`, whose cores are
     proven on abstractions) or ``portfolio`` (the SAT oracle with ``joint_conflict_budget``
     conflicts per call, adaptive when None (see :class:`_Budget`), then the search if it is
-    undecided).  All three are exact.
+    undecided).  All three are exact.  ``None``: :func:`default_joint`.
 
     OPT goes through :class:`mega_sat.tiered_opt.TieredOpt` (cheap proofs first, ``planner``
     last).  ``core_search_factor``: unsolvable candidate models are generalised by searches on
     abstractions for up to this many times the time OPT took to prove them unsolvable.
     """
+    planner = default_planner("sat", family) if planner is None else planner
+    joint = default_joint(family) if joint is None else joint
     if joint not in JOINT_METHODS:
         from mega_sat.errors import UsageError
 
@@ -157,9 +177,12 @@ def sat_frontier(
                 on = None
                 if opt.status == "unsolvable":
                     stats["unsolvable_models"] += 1
-                    on = unsolvable_core(
-                        family, sel, search_seconds=max(0.05, core_search_factor * opt.time_s)
-                    )
+                    # the core's searches only shrink the exclusion, so they get no more than
+                    # the time left (barman-bar Δ=20 p2 ran 7 s past a 40 s --timeout here)
+                    seconds = max(0.05, core_search_factor * opt.time_s)
+                    if deadline is not None:
+                        seconds = min(seconds, max(deadline - time.perf_counter(), 0.0))
+                    on = unsolvable_core(family, sel, search_seconds=seconds, stop_at=deadline)
                 else:
                     exact = False
                     notes.append(f"OPT undecided for a model with |E|={len(sel)}: {opt.reason}")

@@ -74,6 +74,7 @@ def unsolvable_core(
     *,
     search_seconds: float = 0.0,
     node_limit: int = 2_000,
+    stop_at: float | None = None,
 ) -> frozenset[int] | None:
     """A set ``S`` of updates such that every selection agreeing with ``selection`` on ``S`` has
     no plan, for an unsolvable ``human + selection``; ``None`` when nothing smaller than "all
@@ -84,7 +85,9 @@ def unsolvable_core(
     pair reachability of the abstraction with the update free (both cheap), then an exhaustive
     search of the abstraction with the update free
     (:func:`mega_sat.abstraction.abstract_task`), of at most ``node_limit`` expansions each and
-    ``search_seconds`` in all; a search cut short proves nothing and keeps the update.
+    ``search_seconds`` in all; a search cut short proves nothing and keeps the update.  After
+    ``stop_at`` (a ``time.perf_counter()`` value) no update is tried any more: the updates not
+    yet dropped stay in ``S``, which is still sound, only larger.
     """
     import time
 
@@ -114,6 +117,8 @@ def unsolvable_core(
 
     fixed = everything
     for i in sorted(everything):
+        if stop_at is not None and time.perf_counter() >= stop_at:
+            break
         trial = fixed - {i}
         if unsolvable(trial):
             fixed = trial

@@ -53,8 +53,13 @@ def _pairs(points):
 
 
 @SETTINGS
-@given(TASKS, st.sampled_from(["rc2", "ilp"]), st.sampled_from(["sat", "search", "portfolio"]))
-def test_sat_frontier_equals_brute_force(task, hs, joint):
+@given(
+    TASKS,
+    st.sampled_from(["rc2", "ilp"]),
+    st.sampled_from(["sat", "search", "portfolio"]),
+    st.sampled_from([None, "builtin", "sat"]),
+)
+def test_sat_frontier_equals_brute_force(task, hs, joint, planner):
     got = _solvable(task)
     if got is None:
         with pytest.raises(UnsolvableError):
@@ -64,7 +69,9 @@ def test_sat_frontier_equals_brute_force(task, hs, joint):
     # "portfolio" with a zero budget: every JOINT falls through to the explicit search after
     # the SAT oracle gave up (exercises the hand-over)
     budget = 0 if joint == "portfolio" else 20_000
-    fr = sat_frontier(task, fam, hitting_set=hs, joint=joint, joint_conflict_budget=budget)
+    fr = sat_frontier(
+        task, fam, planner=planner, hitting_set=hs, joint=joint, joint_conflict_budget=budget
+    )
     assert fr.robot_optimal_cost == c_r
     assert _pairs(fr.points) == _pairs(pts)
     assert fr.complete
