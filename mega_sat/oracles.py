@@ -15,7 +15,6 @@ comes from simulating the decoded plan, never from the solver's counters.
 
 from __future__ import annotations
 
-import inspect
 import threading
 import time
 from collections.abc import Iterable, Sequence
@@ -659,8 +658,12 @@ class SatOracles:
         t0 = time.perf_counter()
         sel = frozenset(i for i, v in key if v)
         task = abstract_task(self.family, sel, [i for i, _ in key])
-        got = operator_counting_bound(task, time_limit=self.counting_time_limit)
-        self._counting[key] = got
+        limit, cut = self.counting_time_limit, False
+        if self._deadline is not None and self._deadline - time.perf_counter() < limit:
+            limit, cut = max(self._deadline - time.perf_counter(), 0.01), True
+        got = operator_counting_bound(task, time_limit=limit)
+        if not (cut and got is None):  # a bound cut short by the deadline may be found later
+            self._counting[key] = got
         self._counting_tries += 1
         self._counting_gains += got is not None and got > above
         self.stats["sat_counting_calls"] = self.stats.get("sat_counting_calls", 0) + 1
@@ -682,15 +685,15 @@ class SatOracles:
 
     def _opt_fallback(self, task: GroundTask, calls: int, t0: float) -> OptResult:
         """No plan within the horizon cap: only an exhaustive explicit search can decide."""
+        from mega_sat.search import astar
+
         reason = f"no plan within the horizon cap {self.horizon_cap}"
-        try:
-            from mega_sat.search import astar
-        except ImportError:  # pragma: no cover - search.py is part of the package
-            return OptResult("unknown", None, None, False, reason, calls, self._finish("opt", t0))
-        kwargs = {"heuristic": "blind"}
-        if "node_limit" in inspect.signature(astar).parameters:
-            kwargs["node_limit"] = self.fallback_node_limit
-        r = astar(task, **kwargs)
+        left = None if self._deadline is None else self._deadline - time.perf_counter()
+        if left is not None and left <= 0:
+            raise OracleInterrupted("deadline reached")
+        r = astar(task, heuristic="blind", node_limit=self.fallback_node_limit, time_limit=left)
+        if r.status == "timeout" and left is not None and time.perf_counter() >= self._deadline:
+            raise OracleInterrupted("deadline reached")  # proves nothing; not cached
         if r.status == "unsolvable":
             return OptResult(
                 "unsolvable",

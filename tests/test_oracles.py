@@ -129,6 +129,40 @@ def test_horizon_cap_is_reported_not_hidden():
         assert orc.joint(frozenset(), None, 7).core == frozenset()
 
 
+def test_horizon_cap_fallback_stops_at_the_deadline():
+    """Past the horizon cap OPT falls back to explicit search; with a deadline that search
+    gets only the time left, and a search cut short raises (nothing proven, nothing cached)
+    instead of answering "unknown" for good.  Sixteen free switches make the state space
+    2^16 times the chain's, too large to exhaust in 0.3 s."""
+    import time
+    from dataclasses import replace
+
+    from mega_sat.oracles import OracleInterrupted
+
+    n, k = 8, 16
+    fam = _chain(n)
+    switches = tuple(
+        GroundAction(name, (str(i),), None, (), (), add, delete, (((), 1),))
+        for i in range(k)
+        for name, add, delete in (
+            ("on", ((n + 1 + i, None),), ()),
+            ("off", (), ((n + 1 + i, None),)),
+        )
+    )
+    fam = replace(
+        fam,
+        atoms=fam.atoms + tuple((f"q{i}",) for i in range(k)),
+        actions=fam.actions + switches,
+    )
+    with SatOracles(fam, horizon_cap=4, operator_counting=False) as orc:
+        t0 = time.perf_counter()
+        orc.set_deadline(t0 + 0.3)
+        with pytest.raises(OracleInterrupted):
+            orc.opt(frozenset())
+        assert time.perf_counter() - t0 < 2.0
+        assert frozenset() not in orc._opt_cache
+
+
 def test_core_is_minimized():
     """Goal g needs action a, which needs update 0 selected (human side); updates 1..3 are
     irrelevant decoys. Not selecting 0 is the whole core."""
