@@ -117,3 +117,29 @@ def test_bad_copies():
     fam = GroundFamily((), 0, (), (), ())
     with pytest.raises(ValueError):
         FamilyEncoding(fam, lambda c: None, copies=("human", "human"))
+
+
+def test_guarded_mutexes_wait_for_a_longer_encoding_then_cover_every_layer():
+    """The guarded mutexes (two h^2 computations per update) are computed only once the
+    encoding reaches ``GUARDED_FROM_STEPS`` steps, and then added to every human state layer,
+    the earlier ones included.  rover-martian/p3 has some."""
+    from pathlib import Path
+
+    from mega_sat.grounding import ground
+    from mega_sat.loading import load_task, resolve_task_dir
+    from mega_sat.sat_encoding import GUARDED_FROM_STEPS, _state_lit
+
+    root = Path(__file__).resolve().parents[1] / "domains" / "rover-martian" / "p3"
+    fam = ground(load_task(**resolve_task_dir(str(root))))
+    clauses: list[list[int]] = []
+    enc = FamilyEncoding(fam, clauses.append)
+    enc.extend(GUARDED_FROM_STEPS - 1)
+    assert "guarded" not in vars(enc.facts)  # not computed yet
+    enc.extend(GUARDED_FROM_STEPS + 1)
+    guarded = enc.facts.guarded
+    assert guarded
+    have = {tuple(sorted(c)) for c in clauses}
+    for layer in range(1, enc.horizon + 1):
+        xl = enc.x_base[HUMAN][layer]
+        for g, l1, l2 in guarded:
+            assert tuple(sorted((-g, _state_lit(xl, l1), _state_lit(xl, l2)))) in have
