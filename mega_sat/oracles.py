@@ -375,7 +375,8 @@ class SatOracles:
                 s.clear_interrupt()
 
     def _check_interrupt(self) -> None:
-        late = self._deadline is not None and time.perf_counter() >= self._deadline
+        left = self._time_left()
+        late = left is not None and left <= 0
         if self._interrupted or late:
             self._clear_interrupt()
             raise OracleInterrupted("deadline reached" if late else "interrupted")
@@ -512,10 +513,13 @@ class SatOracles:
         rate = self._rate.get(id(solver))
         if rate is None:
             return min(self.solve_chunk, self.FIRST_CHUNK)
-        seconds = self.CHUNK_SECONDS
-        if self._deadline is not None:
-            seconds = min(seconds, max(self._deadline - time.perf_counter(), 0.01))
+        left = self._time_left()
+        seconds = self.CHUNK_SECONDS if left is None else min(self.CHUNK_SECONDS, max(left, 0.01))
         return max(1, min(self.solve_chunk, int(seconds / max(rate, 1e-9))))
+
+    def _time_left(self) -> float | None:
+        """Seconds until the deadline (negative once passed); ``None`` without one."""
+        return None if self._deadline is None else self._deadline - time.perf_counter()
 
     def _add_seconds(self, key: str, t0: float) -> None:
         """Add the seconds since ``t0`` to the timing stat ``key``."""
@@ -658,9 +662,10 @@ class SatOracles:
         t0 = time.perf_counter()
         sel = frozenset(i for i, v in key if v)
         task = abstract_task(self.family, sel, [i for i, _ in key])
-        limit, cut = self.counting_time_limit, False
-        if self._deadline is not None and self._deadline - time.perf_counter() < limit:
-            limit, cut = max(self._deadline - time.perf_counter(), 0.01), True
+        limit, left = self.counting_time_limit, self._time_left()
+        cut = left is not None and left < limit
+        if cut:
+            limit = max(left, 0.01)
         got = operator_counting_bound(task, time_limit=limit)
         if not (cut and got is None):  # a bound cut short by the deadline may be found later
             self._counting[key] = got
@@ -688,11 +693,11 @@ class SatOracles:
         from mega_sat.search import astar
 
         reason = f"no plan within the horizon cap {self.horizon_cap}"
-        left = None if self._deadline is None else self._deadline - time.perf_counter()
+        left = self._time_left()
         if left is not None and left <= 0:
             raise OracleInterrupted("deadline reached")
         r = astar(task, heuristic="blind", node_limit=self.fallback_node_limit, time_limit=left)
-        if r.status == "timeout" and left is not None and time.perf_counter() >= self._deadline:
+        if r.status == "timeout" and left is not None and self._time_left() <= 0:
             raise OracleInterrupted("deadline reached")  # proves nothing; not cached
         if r.status == "unsolvable":
             return OptResult(

@@ -86,8 +86,8 @@ def unsolvable_core(
     search of the abstraction with the update free
     (:func:`mega_sat.abstraction.abstract_task`), of at most ``node_limit`` expansions each and
     ``search_seconds`` in all; a search cut short proves nothing and keeps the update.  After
-    ``stop_at`` (a ``time.perf_counter()`` value) no update is tried any more: the updates not
-    yet dropped stay in ``S``, which is still sound, only larger.
+    ``stop_at`` (a ``time.perf_counter()`` value) no search runs and no update is tried any
+    more: the updates not yet dropped stay in ``S``, which is still sound, only larger.
     """
     import time
 
@@ -97,6 +97,8 @@ def unsolvable_core(
 
     everything = frozenset(range(family.n_updates))
     deadline = time.perf_counter() + search_seconds
+    if stop_at is not None:
+        deadline = min(deadline, stop_at)
 
     def unsolvable(fixed: frozenset[int]) -> bool:
         if not _relaxed_goal_reachable(family, selection, fixed):
