@@ -374,8 +374,12 @@ class FamilyEncoding:
             self.u_base[c].append(u_base)
             new_units[c] = [u_base + k for k in range(1, self.max_units + 1)]
             bases = (0, a_base, self.x_base[c][t], x1, u_base)
-            for clause in self._templates[c]:
-                self._emit([self._resolve(lit, bases) for lit in clause])
+            # the bulk of every step: resolved inline (a call per literal cost 0.05 s of the
+            # 0.26 s that barman-bar/p3's 18 robot steps took to build)
+            sink, template = self._sink, self._templates[c]
+            for clause in template:
+                sink([sign * (bases[kind] + off) for kind, off, sign in clause])
+            self.n_clauses += len(template)
             if self._min_units[c] > 0:
                 self._emit([-act, u_base + self._min_units[c]])
             inv = self.invariants.get(c)
