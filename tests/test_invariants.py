@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from sat_families import all_selections, families, plan_cost, selections
@@ -175,3 +176,41 @@ def test_guarded_mutexes_hold_in_every_member_where_their_guard_holds(fam: Groun
             for s in states:
                 for l1, l2 in active:
                     assert _holds(l1, s) or _holds(l2, s)
+
+
+def _guarded_without_skipping(fam: GroundFamily) -> set:
+    """Every update fixed both ways, with an h^2 computation each (no shortcut)."""
+    from mega_sat.invariants import family_invariants
+
+    have = set(family_invariants(fam).binary)
+    out = set()
+    for i in range(fam.n_updates):
+        for v in (False, True):
+            inv = family_invariants(fam, frozenset([i]) if v else frozenset(), [i])
+            guard = i + 1 if v else -(i + 1)
+            out.update((guard, l1, l2) for l1, l2 in inv.binary if (l1, l2) not in have)
+    return out
+
+
+@SETTINGS
+@given(fam=families())
+def test_guarded_mutexes_skip_only_fixings_that_find_nothing(fam: GroundFamily):
+    from mega_sat.invariants import encoding_facts
+
+    assert set(encoding_facts(fam).guarded) == _guarded_without_skipping(fam)
+
+
+@pytest.mark.parametrize("name", ["rover-martian/p3", "usar-fetch/p3", "blocksworld/p3"])
+def test_guarded_mutexes_skip_only_fixings_that_find_nothing_on_shipped_problems(name):
+    from pathlib import Path
+
+    from mega_sat.grounding import ground
+    from mega_sat.invariants import encoding_facts
+    from mega_sat.loading import load_task, resolve_task_dir
+
+    d = Path(__file__).resolve().parent.parent / "domains" / name
+    fam = ground(load_task(**resolve_task_dir(d)))
+    got = encoding_facts(fam).guarded
+    assert len(set(got)) == len(got) and set(got) == _guarded_without_skipping(fam)
+    if name == "rover-martian/p3":
+        assert len(got) == 33
