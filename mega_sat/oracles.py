@@ -475,7 +475,7 @@ class SatOracles:
         Without a plan, the search's plan is the cheap first upper bound.  With one, a search
         only pays if the SAT proof gets shorter: on barman-bar/p3 each hit removes 5 steps
         (28 -> 23), on rover-martian about 1 in 2 hits removes 1 step.  The frontier of
-        rover-martian Δ = 10 p3 took 44-53 s in three runs with this rule and 47-67 s in five
+        rover-martian Δ = 10 p3 took 44-53 s in four runs with this rule and 51-67 s in five
         runs without (the loop's path depends on timing, so single runs vary by ±20 %)."""
         costs = {a.cost for a in task.actions}
         if len(costs) < 2 or min(costs) <= 0:
