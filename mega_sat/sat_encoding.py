@@ -32,8 +32,8 @@ HUMAN = "human"
 ROBOT = "robot"
 GUARDED_FROM_STEPS = 4
 """The human copy gets its guarded mutexes once the encoding has this many steps (then on
-every state layer): they cost two h^2 computations per update, which short queries do not
-repay (usar-fetch Δ=20 p2: 0.41 s of a 0.6 s run, for JOINT queries of one step)."""
+every state layer): they cost up to two h^2 computations per update, which short queries do
+not repay (usar-fetch Δ=20 p2: 0.41 s of a 0.6 s run, for JOINT queries of one step)."""
 
 # Template literal kinds: e variable, action at t, state at t, state at t+1, cost unit at t.
 _E, _A, _X0, _X1, _U = range(5)

@@ -120,7 +120,7 @@ def test_bad_copies():
 
 
 def test_guarded_mutexes_wait_for_a_longer_encoding_then_cover_every_layer():
-    """The guarded mutexes (two h^2 computations per update) are computed only once the
+    """The guarded mutexes (up to two h^2 computations per update) are computed only once the
     encoding reaches ``GUARDED_FROM_STEPS`` steps, and then added to every human state layer,
     the earlier ones included.  rover-martian/p3 has some."""
     from pathlib import Path
