@@ -204,8 +204,9 @@ class EncodingFacts:
     copy, and the backward layers.
 
     The guarded mutexes cost up to two h^2 computations per update (0.41 s on usar-fetch
-    Δ=20 p2 before fixings equal to the free abstraction were skipped; it finds none), so they are computed on first use (:attr:`guarded`); the encoding asks
-    for them only once it has more than a few steps."""
+    Δ=20 p2 before fixings equal to the free abstraction were skipped; it finds none), so
+    they are computed on first use (:attr:`guarded`); the encoding asks for them only once
+    it has more than a few steps."""
 
     human: Invariants
     robot: Invariants
