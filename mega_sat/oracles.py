@@ -223,7 +223,10 @@ class SatOracles:
     ``operator_counting`` enables the integer-program lower bounds of
     :mod:`mega_sat.operator_counting` (CBC, ``counting_time_limit`` seconds each) for OPT and
     for JOINT's cores; ``dominance_conflict_budget`` caps the conflicts spent shrinking one
-    core below the human optimum (:meth:`_joint_by_dominance`).
+    core below the human optimum (:meth:`_joint_by_dominance`); ``step_first`` lets OPT's
+    descent ask "a plan of at most k steps, any cost" before its cost queries (a proven step
+    lower bound settles most hard proofs without the cost totalizer; ``encodings/sequential.md``,
+    OPT step 6).
     """
 
     def __init__(
@@ -244,11 +247,13 @@ class SatOracles:
         opt_extra_node_limit: int = 20000,
         operator_counting: bool = True,
         counting_time_limit: float = 2.0,
+        step_first: bool = True,
     ):
         t0 = time.perf_counter()
         self.family = family
         self.solver_name = solver
         self.horizon_cap = horizon_cap
+        self.step_first = step_first
         self.core_calls = core_calls
         self.core_conflict_budget = core_conflict_budget
         self.dominance_conflict_budget = dominance_conflict_budget
@@ -562,7 +567,9 @@ class SatOracles:
         with a horizon doubling from the step lower bound (cost unbounded); the
         operator-counting bound may prove it optimal at once;
         (3) linear descent: with best simulated cost ``C`` ask for cost ``<= C - 1`` at the
-        horizon that makes the answer exact, until UNSAT (or the relaxed lower bound is met).
+        horizon that makes the answer exact, until UNSAT (or the relaxed lower bound is met);
+        step queries first raise the step lower bound to the fewest steps of a known plan,
+        which alone proves ``C`` optimal when the horizon is below it.
         """
         sel = frozenset(selection)
         cached = self._opt_cache.get(sel)
@@ -629,20 +636,44 @@ class SatOracles:
             plan, best = reduce_plan(task, plan)
 
         # (3) descend: cost <= best - 1 until UNSAT
+        # min_len: no plan of this model has fewer steps (relaxed, then raised by step queries)
+        min_len, len_by_sat = lb_steps, False
+        shortest = len(plan)  # the fewest steps of a plan known to run in this model
         while True:
             if best <= lb_cost:
                 return done("optimal", best, plan, True, why_lb)
             h, exact, reason = self._opt_horizon(sel, best - 1, at_least=len(plan))
-            if exact and h < lb_steps:
-                return done(
-                    "optimal", best, plan, True, "no cheaper plan fits the relaxed step lower bound"
+            if exact and h < min_len:
+                why = (
+                    f"proven by SAT: no plan has fewer than {min_len} steps, and cost "
+                    f"<= {best - 1} needs at most {h}"
+                    if len_by_sat
+                    else "no cheaper plan fits the relaxed step lower bound"
                 )
+                return done("optimal", best, plan, True, why)
+            k = min(shortest - 1, h)
+            if self.step_first and exact and min_len <= k:
+                # (3a) the step query: a plan of at most k steps, at any cost
+                calls += 1
+                self.stats["sat_step_queries"] = self.stats.get("sat_step_queries", 0) + 1
+                if not self._solve(solver, sel_lits + enc.goal_assumptions(k)):
+                    self.stats["sat_step_bounds"] = self.stats.get("sat_step_bounds", 0) + 1
+                    min_len, len_by_sat = k + 1, True
+                    continue
+                found = enc.decode_plan(solver.get_model(), k)
+                assert ground_plan_cost(task, found) is not None, "decoded plan invalid"
+                plan, best = self._cheaper(task, found, plan, best)
+                shortest = min(shortest, len(found), len(plan))
+                continue
+            goal_lits = enc.goal_assumptions(h)
             cost_lits = enc.cost_assumptions(HUMAN, best - 1, h)
             assert cost_lits is not None
+            # no plan has fewer than min_len steps: say so (no-op steps only come last)
+            at_least = [enc.act[min_len - 1]] if 0 < min_len <= h and enc.symmetry_breaking else []
             calls += 1
             probe = sel not in self._opt_extra_searched and self._search_first(task, True)
             budget = self.opt_probe_budget if probe else None
-            ok = self._solve(solver, sel_lits + enc.goal_assumptions(h) + cost_lits, budget)
+            ok = self._solve(solver, sel_lits + goal_lits + at_least + cost_lits, budget)
             if ok is None:
                 # a hard query: an exact lower bound on the cost above N * c may shorten it
                 plan, best = self._cheaper(task, self._tighten_extra(sel), plan, best)
@@ -653,6 +684,7 @@ class SatOracles:
             cost = ground_plan_cost(task, plan)
             assert cost is not None and cost < best, "decoded plan invalid or not cheaper"
             plan, best = reduce_plan(task, plan)
+            shortest = min(shortest, len(plan))
 
     @staticmethod
     def _cheaper(task: GroundTask, found, plan, best):

@@ -35,12 +35,13 @@ def check_opt(fam: GroundFamily, orc: SatOracles, sel: frozenset[int]) -> OptRes
     return r
 
 
+@pytest.mark.parametrize("step_first", [True, False], ids=["step-queries", "cost-only"])
 @SETTINGS
 @given(fam=families(), data=st.data())
-def test_opt_matches_dijkstra_and_astar(fam: GroundFamily, data):
+def test_opt_matches_dijkstra_and_astar(step_first, fam: GroundFamily, data):
     from mega_sat.search import astar
 
-    with SatOracles(fam) as orc:
+    with SatOracles(fam, step_first=step_first) as orc:
         for _ in range(3):
             sel = data.draw(selections(fam.n_updates))
             r = check_opt(fam, orc, sel)
@@ -487,3 +488,39 @@ def test_lowered_cost_search_with_a_plan_runs_only_while_it_shortens_horizons():
         assert orc._search_first(task, True)
         orc._searches_missed = 7
         assert not orc._search_first(task, True) and not orc._search_first(task, False)
+
+
+@pytest.mark.parametrize("problem", ["rover-martian/p1", "barman-bar/p1"])
+def test_step_queries_keep_opt_exact_on_shipped_problems(problem):
+    """OPT with step queries (the default) against OPT without them and against A*/LM-cut on
+    the models with |E| <= 2: same optimal costs.  Both new paths are taken: a step query
+    that finds a shorter plan (rover-martian/p1 {0, 1, 4}), and a cost query that starts from
+    a step bound proven by SAT (barman-bar/p1)."""
+    import itertools
+    from pathlib import Path
+
+    from mega_sat.grounding import ground
+    from mega_sat.loading import load_task, resolve_task_dir
+    from mega_sat.search import astar
+
+    d = Path(__file__).resolve().parent.parent / "domains" / problem
+    fam = ground(load_task(**resolve_task_dir(d)))
+    n = fam.n_updates
+    sels = [frozenset(c) for r in range(4) for c in itertools.combinations(range(n), r)]
+    found_shorter = cost_after_bound = 0
+    with SatOracles(fam) as new, SatOracles(fam, step_first=False) as old:
+        for sel in sels:
+            queries = new.stats.get("sat_step_queries", 0)
+            bounds = new.stats.get("sat_step_bounds", 0)
+            r = new.opt(sel)
+            queries = new.stats.get("sat_step_queries", 0) - queries
+            bounds = new.stats.get("sat_step_bounds", 0) - bounds
+            found_shorter += queries > bounds
+            cost_after_bound += bounds > 0 and r.reason == "proven by SAT"
+            o = old.opt(sel)
+            assert (r.status, r.cost, r.exact) == (o.status, o.cost, o.exact), sorted(sel)
+            if len(sel) <= 2:
+                a = astar(fam.specialize(sel), heuristic="lmcut")
+                assert r.cost == a.cost, sorted(sel)
+        assert "sat_step_queries" not in old.stats
+    assert found_shorter if problem.startswith("rover") else cost_after_bound
