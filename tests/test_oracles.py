@@ -35,13 +35,17 @@ def check_opt(fam: GroundFamily, orc: SatOracles, sel: frozenset[int]) -> OptRes
     return r
 
 
-@pytest.mark.parametrize("step_first", [True, False], ids=["step-queries", "cost-only"])
+@pytest.mark.parametrize(
+    "options",
+    [{}, {"step_first": False}, {"symmetry_breaking": False}],
+    ids=["step-queries", "cost-only", "step-queries-no-symmetry-breaking"],
+)
 @SETTINGS
 @given(fam=families(), data=st.data())
-def test_opt_matches_dijkstra_and_astar(step_first, fam: GroundFamily, data):
+def test_opt_matches_dijkstra_and_astar(options, fam: GroundFamily, data):
     from mega_sat.search import astar
 
-    with SatOracles(fam, step_first=step_first) as orc:
+    with SatOracles(fam, **options) as orc:
         for _ in range(3):
             sel = data.draw(selections(fam.n_updates))
             r = check_opt(fam, orc, sel)
