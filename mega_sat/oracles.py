@@ -307,6 +307,10 @@ class SatOracles:
         # they have been tried a few times without ever beating the cheaper bounds
         self.operator_counting = operator_counting
         self.counting_time_limit = counting_time_limit
+        if operator_counting:
+            # PuLP takes 0.04-0.06 s to import: a once-per-process set-up cost, paid here with
+            # the rest of the set-up rather than inside whichever OPT call first needs a bound
+            import pulp  # noqa: F401
         self._counting: dict[frozenset[GuardLit], float | None] = {}
         self._counting_tries = 0
         self._counting_gains = 0
