@@ -340,6 +340,24 @@ def test_cadical_chunks_follow_the_deadline_not_the_chunk_cap():
         assert orc.joint(frozenset(), None, 3).robot_cost == 3
 
 
+def test_chunk_sizes_do_not_follow_the_clock_without_a_deadline():
+    """Chunk boundaries steer CaDiCaL's search, so without a deadline the chunks of a call
+    follow a fixed schedule whatever the measured speed (clock-sized chunks made barman-bar/p3's
+    loop take a different path through the models on every run); a near deadline cuts them."""
+    import time
+
+    with SatOracles(_chain(3), solver="cadical195") as orc:
+        s = orc._opt_solver
+        sizes = [orc._chunk(s, i) for i in range(8)]
+        assert sizes == [1000, 2000, 3000, 4000, 5000, 5000, 5000, 5000]
+        for rate in (1e-7, 1e-3):  # a fast and a slow machine
+            orc._rate[id(s)] = rate
+            assert [orc._chunk(s, i) for i in range(8)] == sizes
+        orc.set_deadline(time.perf_counter() + 0.5)
+        assert orc._chunk(s, 4) <= 500  # 1 ms per conflict: at most 0.5 s of work left
+        orc.set_deadline(None)
+
+
 def _same_costs(fam: GroundFamily) -> GroundFamily:
     """``fam`` with every action's cost fixed to its first case (robot costs then dominate)."""
     from dataclasses import replace
