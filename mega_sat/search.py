@@ -253,13 +253,7 @@ def astar(
         if g > best_g[s]:
             continue
         if s & goal == goal:
-            steps = []
-            cur = s
-            while parent[cur] is not None:
-                prev, j = parent[cur]  # type: ignore[misc]
-                steps.append(actions[j].step)
-                cur = prev
-            return result("optimal", tuple(reversed(steps)), g)
+            return result("optimal", _trace(parent, actions, s), g)
         if node_limit is not None and expanded >= node_limit:
             return result("timeout")
         if deadline is not None and expanded % 32 == 0 and time.perf_counter() > deadline:
@@ -286,6 +280,17 @@ def astar(
                 counter += 1
                 heapq.heappush(open_list, (g2 + h2, h2, counter, g2, s2))
     return result("unsolvable")
+
+
+def _trace(
+    parent: dict[int, tuple[int, int] | None], actions: tuple, s: int
+) -> tuple[PlanStep, ...]:
+    """The plan that reached state ``s``, read back along ``parent`` (state, action index)."""
+    steps = []
+    while (link := parent[s]) is not None:
+        s, j = link
+        steps.append(actions[j].step)
+    return tuple(reversed(steps))
 
 
 def _uniform_cost(
@@ -318,13 +323,7 @@ def _uniform_cost(
             if best_g[s] != g:
                 continue
             if s & goal == goal:
-                steps = []
-                cur = s
-                while parent[cur] is not None:
-                    prev, j = parent[cur]  # type: ignore[misc]
-                    steps.append(actions[j].step)
-                    cur = prev
-                return "optimal", tuple(reversed(steps)), g, expanded
+                return "optimal", _trace(parent, actions, s), g, expanded
             if node_limit is not None and expanded >= node_limit:
                 return "timeout", None, None, expanded
             if deadline is not None and expanded % 32 == 0 and time.perf_counter() > deadline:
