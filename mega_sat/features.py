@@ -10,7 +10,7 @@ human's value to the robot's.
 from __future__ import annotations
 
 from collections.abc import Iterable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from mega_sat.model import Atom, CostTerm, Model, Schema, atom_str
 
@@ -40,12 +40,16 @@ class Feature:
     ``action`` is the schema name ('' for initial-state, goal and function-value features).
     ``atom`` is the (lifted or ground) atom; for ``schema`` it holds the parameter list, for
     ``cost`` the cost (``(value,)`` or the cost term), for ``fvalue`` the ground function term
-    followed by its value as a string.
+    followed by its value as a string.  ``signature`` (``schema`` only) holds the parameters'
+    types for the printed name; it is not part of the feature's identity, so two models whose
+    schema types a parameter differently still share the schema's existence feature (the type
+    difference is a precondition feature of its own).
     """
 
     kind: str
     action: str
     atom: tuple[str, ...]
+    signature: tuple[str, ...] = field(default=(), compare=False)
 
     @property
     def name(self) -> str:
@@ -56,7 +60,11 @@ class Feature:
         if k == GOAL:
             return f"has-goal-state-{atom_str(self.atom)}"
         if k == SCHEMA:
-            return f"{a}-has-parameters-{' '.join(self.atom)}".rstrip("-")
+            params = [
+                f"{p} - {t}" if t else p
+                for p, t in zip(self.atom, self.signature or ("",) * len(self.atom), strict=True)
+            ]
+            return f"{a}-has-parameters-{' '.join(params)}".rstrip("-")
         if k == PRE:
             return f"{a}-has-precondition-{atom_str(self.atom)}"
         if k == NEGPRE:
@@ -100,7 +108,7 @@ class Update:
 
 def schema_features(s: Schema) -> set[Feature]:
     """The features of one schema (existence, components, cost)."""
-    out = {Feature(SCHEMA, s.name, s.params)}
+    out = {Feature(SCHEMA, s.name, s.params, s.param_types())}
     for kind, atoms in ((PRE, s.pre), (NEGPRE, s.negpre), (ADD, s.add), (DEL, s.delete)):
         out.update(Feature(kind, s.name, a) for a in atoms)
     out.add(Feature(COST, s.name, (cost_str(s.cost),)))
@@ -118,6 +126,15 @@ def gamma(model: Model) -> frozenset[Feature]:
     return frozenset(out)
 
 
+def _in_own_signature(f: Feature, owner: Model, other: Model) -> bool:
+    """True for a type precondition of a schema only ``owner`` has: it travels with the
+    schema's existence update (its signature), so it is no update of its own."""
+    s = owner.schemas.get(f.action)
+    return (
+        f.kind == PRE and s is not None and f.action not in other.schemas and f.atom in s.signature
+    )
+
+
 def model_difference(robot: Model, human: Model) -> tuple[Update, ...]:
     """``Delta``: the updates that turn ``human`` into ``robot``, in canonical order.
 
@@ -129,10 +146,14 @@ def model_difference(robot: Model, human: Model) -> tuple[Update, ...]:
     for f in gr - gh:
         if f.kind == COST and f.action not in human.schemas:
             continue  # a schema only the robot has keeps its own cost: no cost feature
+        if _in_own_signature(f, robot, human):
+            continue
         ups.append(Update(f, True))
     for f in gh - gr:
         if f.kind in (COST, FVALUE):
             continue  # replaced by the robot's value (added above), or a human-only schema's own
+        if _in_own_signature(f, human, robot):
+            continue
 
         ups.append(Update(f, False))
     # kind, then additions before removals (the paper prints adds first), then name
@@ -151,8 +172,9 @@ def apply_updates(human: Model, robot: Model, updates: Iterable[Update]) -> Mode
     """``human + E``: the human model with every update of ``E`` applied.
 
     Every subset of Delta gives a well-defined model: a schema whose existence feature is
-    added starts with only the components ``E`` adds; a schema removed takes its components
-    with it.  Cost of a schema present in only one model is that model's cost.
+    added starts with its signature (the parameter types) and only the other components ``E``
+    adds; a schema removed takes its components with it.  Cost of a schema present in only one
+    model is that model's cost.
     """
     feats = set(gamma(human))
     for u in updates:
@@ -166,6 +188,8 @@ def apply_updates(human: Model, robot: Model, updates: Iterable[Update]) -> Mode
             feats.add(f)
         elif u.robot_has:
             feats.add(f)
+            if f.kind == SCHEMA and f.action not in human.schemas:
+                feats.update(Feature(PRE, f.action, a) for a in robot.schemas[f.action].signature)
         else:
             feats.discard(f)
     return model_from_features(feats, human, robot)
@@ -192,11 +216,8 @@ def model_from_features(feats: Iterable[Feature], human: Model, robot: Model) ->
             costs[f.action] = _parse_cost(f.atom[0])
     schemas = {}
     for a, params in sorted(schema_params.items()):
-        if a in costs:
-            cost = costs[a]
-        else:  # schema only one model has: that model's cost
-            src = robot.schemas.get(a) or human.schemas[a]
-            cost = src.cost
+        src = human.schemas.get(a) or robot.schemas[a]
+        cost = costs.get(a, src.cost)  # a schema only one model has: that model's cost
         p = parts[a]
         schemas[a] = Schema(
             a,
@@ -206,6 +227,7 @@ def model_from_features(feats: Iterable[Feature], human: Model, robot: Model) ->
             frozenset(p[ADD]),
             frozenset(p[DEL]),
             cost,
+            src.signature & frozenset(p[PRE]),
         )
     functions = {f.atom[:-1]: int(f.atom[-1]) for f in feats if f.kind == FVALUE}
     predicates = dict(robot.predicates)

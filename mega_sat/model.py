@@ -41,6 +41,9 @@ class Schema:
     """A lifted action schema.
 
     ``cost`` is an ``int`` or a :data:`CostTerm` evaluated in the problem's function table.
+    ``signature`` holds the type atoms ``(t ?x)`` of the parameter list (they are also in
+    ``pre``): a schema only one model has enters or leaves the other model together with them,
+    so they are part of its existence update rather than updates of their own.
     """
 
     name: str
@@ -50,6 +53,12 @@ class Schema:
     add: frozenset[Atom] = frozenset()
     delete: frozenset[Atom] = frozenset()
     cost: int | CostTerm = 1
+    signature: frozenset[Atom] = frozenset()
+
+    def param_types(self) -> tuple[str, ...]:
+        """The declared type of each parameter ('' when untyped), from ``signature``."""
+        by_param = {a[1]: a[0] for a in sorted(self.signature)}
+        return tuple(by_param.get(p, "") for p in self.params)
 
 
 @dataclass(frozen=True)

@@ -794,12 +794,14 @@ def _schema(action, uses_costs: bool, path: str) -> Schema:
     from pddl.logic.predicates import Predicate
 
     params = tuple(f"?{v.name}" for v in action.parameters)
-    pre: set[Atom] = set()
+    signature = frozenset(
+        (str(tag), f"?{v.name}")
+        for v in action.parameters
+        for tag in v.type_tags
+        if str(tag) != "object"
+    )
+    pre: set[Atom] = set(signature)
     negpre: set[Atom] = set()
-    for v in action.parameters:
-        for tag in v.type_tags:
-            if str(tag) != "object":
-                pre.add((str(tag), f"?{v.name}"))
     for lit in _conjuncts(action.precondition):
         if isinstance(lit, Predicate):
             pre.add(_atom(lit))
@@ -833,6 +835,7 @@ def _schema(action, uses_costs: bool, path: str) -> Schema:
         frozenset(add),
         frozenset(delete),
         cost,
+        signature,
     )
 
 

@@ -75,6 +75,7 @@ def align_human(
             _rename(hs.add, ren),
             _rename(hs.delete, ren),
             cost,
+            _rename(hs.signature, ren),
         )
     return Model(
         domain_name=human.domain_name,

@@ -3,7 +3,8 @@
 Not a test file: the grounding, search, oracle and engine tests import it for cross-checks.
 
 * :func:`models` — a random small STRIPS :class:`Model` (2-4 predicates of arity 0-2, 2-3
-  objects, 2-4 schemas with 0-2 parameters, random preconditions, negative preconditions, add
+  objects, 2-4 schemas with 0-2 parameters (some typed by a unary precondition in their
+  signature), random preconditions, negative preconditions, add
   and delete effects, costs 1-3 (optionally 0-3, optionally a static cost function), random
   initial state and goal).  The number of ground atoms is capped (``max_atoms``), so a model has
   at most ``2 ** max_atoms`` states and usually far fewer reachable ones.
@@ -53,6 +54,13 @@ def _schema(draw, name: str, predicates: dict[str, int], cost_values, function_c
         return frozenset(draw(st.lists(st.sampled_from(atoms), min_size=lo, max_size=hi)))
 
     pre = subset(0, 2)
+    # a parameter type: a unary precondition on a parameter, declared as part of the signature
+    # (it then travels with the schema's existence update when only one model has the schema)
+    signature = set()
+    for p in params:
+        typed = sorted(a for a in pre if a[1:] == (p,))
+        if typed and draw(st.booleans()):
+            signature.add(draw(st.sampled_from(typed)))
     negpre = (subset(0, 1) - pre) if draw(st.integers(0, 2)) == 0 else frozenset()
     add = subset(1, 3)
     delete = subset(0, 2)
@@ -60,7 +68,7 @@ def _schema(draw, name: str, predicates: dict[str, int], cost_values, function_c
         cost: int | tuple[str, ...] = (FUNCTION, params[0])
     else:
         cost = draw(cost_values)
-    return Schema(name, params, pre, negpre, add, delete, cost)
+    return Schema(name, params, pre, negpre, add, delete, cost, frozenset(signature))
 
 
 @st.composite
@@ -188,6 +196,7 @@ def _flip(draw, human: Model, allow_zero_cost: bool) -> Model:
         return human
     a = draw(st.sampled_from(lifted))
     s2 = replace(s, **{kind: _toggle(getattr(s, kind), a)})
+    s2 = replace(s2, signature=s2.signature & s2.pre)
     return replace(human, schemas={**human.schemas, s.name: s2})
 
 
