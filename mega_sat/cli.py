@@ -112,6 +112,24 @@ def _verbose_family(solver, verbose: bool) -> None:
 @click.version_option(package_name="mega-sat")
 def main():
     """mega-sat: exact MEGA (explicability vs. explanations) with SAT and ILP."""
+    _show_warnings_as_lines()
+
+
+def _show_warnings_as_lines() -> None:
+    """Print mega-sat's warnings (PDDLWarning) as one ``warning: ...`` line on stderr."""
+    import warnings
+
+    from mega_sat.pddl_reader import PDDLWarning
+
+    default = warnings.showwarning
+
+    def show(message, category, filename, lineno, file=None, line=None):
+        if issubclass(category, PDDLWarning):
+            click.echo(f"warning: {message}", err=True)
+        else:
+            default(message, category, filename, lineno, file, line)
+
+    warnings.showwarning = show
 
 
 # --------------------------------------------------------------------------- diff / apply

@@ -28,6 +28,26 @@ def load_task(
     human_problem: str | Path | None = None,
 ) -> TwoModelTask:
     """Read the four files (the human problem defaults to the robot problem) into a task."""
+    _check_args(
+        "load_task",
+        "a file path",
+        (str, Path),
+        robot_domain=robot_domain,
+        robot_problem=robot_problem,
+        human_domain=human_domain,
+        human_problem=human_problem,
+    )
+    for role, p in (
+        ("robot_domain", robot_domain),
+        ("robot_problem", robot_problem),
+        ("human_domain", human_domain),
+        ("human_problem", human_problem),
+    ):
+        if isinstance(p, str) and ("(" in p or "\n" in p):
+            raise UsageError(
+                f"load_task: {role} looks like PDDL text, not a file path "
+                "(use load_task_from_strings for PDDL texts)"
+            )
     paths = {
         "robot_domain": str(robot_domain),
         "robot_problem": str(robot_problem),
@@ -45,6 +65,15 @@ def load_task_from_strings(
     human_problem: str | None = None,
 ) -> TwoModelTask:
     """Like :func:`load_task` for PDDL texts; messages name them 'robot domain' and so on."""
+    _check_args(
+        "load_task_from_strings",
+        "PDDL text (a str)",
+        (str,),
+        robot_domain=robot_domain,
+        robot_problem=robot_problem,
+        human_domain=human_domain,
+        human_problem=human_problem,
+    )
     texts = {
         "robot_domain": robot_domain,
         "robot_problem": robot_problem,
@@ -53,6 +82,15 @@ def load_task_from_strings(
     }
     names = {role: role.replace("_", " ") for role in texts}
     return _build(texts, names)
+
+
+def _check_args(fn: str, expected: str, types: tuple[type, ...], **args: object) -> None:
+    """A clear error for an argument of the wrong type (the human problem may be None)."""
+    for role, value in args.items():
+        if value is None and role == "human_problem":
+            continue
+        if not isinstance(value, types):
+            raise UsageError(f"{fn}: {role} must be {expected}, got {type(value).__name__}")
 
 
 def _build(texts: dict[str, str], names: dict[str, str]) -> TwoModelTask:

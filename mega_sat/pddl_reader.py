@@ -42,12 +42,18 @@ from __future__ import annotations
 
 import functools
 import re
+import warnings
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from mega_sat.errors import PDDLError
 from mega_sat.model import Atom, CostTerm, Model, Schema
+
+
+class PDDLWarning(UserWarning):
+    """Something in a PDDL file that mega-sat reads anyway but the user should know about."""
+
 
 # ----------------------------------------------------------------------------------------------
 # s-expressions with line numbers
@@ -80,8 +86,18 @@ _COMMENT_RE = re.compile(r";[^\n]*")
 
 
 def normalise_text(text: str) -> str:
-    """Lower-case ``text`` and blank out ``;`` comments, keeping every offset and line."""
+    """Lower-case ``text`` and blank out ``;`` comments and a leading byte-order mark, keeping
+    every offset and line."""
+    if text.startswith("\ufeff"):
+        text = " " + text[1:]
     return _COMMENT_RE.sub(lambda m: " " * len(m.group()), text.lower())
+
+
+def _indent(text: str, pos: int) -> int:
+    """Column of the first non-blank character of the line holding ``pos``."""
+    start = text.rfind("\n", 0, pos) + 1
+    line = text[start:pos]
+    return len(line) - len(line.lstrip())
 
 
 def _read_sexpr(text: str, path: str) -> _List:
@@ -89,6 +105,10 @@ def _read_sexpr(text: str, path: str) -> _List:
     stack: list[tuple[int, int, list[_Node]]] = []
     top: list[_Node] = []
     line, pos = 1, 0
+    # where a '(' left open most likely is: the first form that starts a line at or left of
+    # the indentation of a form still open (below the outermost), which it should have closed,
+    # or the first section keyword (':effect') inside a condition or atom
+    suspect: tuple[int, str, int] | None = None
     for m in _TOKEN_RE.finditer(text):
         line += text.count("\n", pos, m.start())
         pos = m.start()
@@ -100,6 +120,14 @@ def _read_sexpr(text: str, path: str) -> _List:
                 where=f"line {line}",
             )
         if tok == "(":
+            if (
+                suspect is None
+                and len(stack) > 1
+                and stack[-1][0] < line
+                and not text[text.rfind("\n", 0, pos) + 1 : pos].strip()
+                and _indent(text, pos) <= _indent(text, stack[-1][1])
+            ):
+                suspect = (stack[-1][0], "the form", line)
             stack.append((line, m.start(), []))
         elif tok == ")":
             if not stack:
@@ -110,10 +138,24 @@ def _read_sexpr(text: str, path: str) -> _List:
             node = _List(tuple(items), l0, s0, m.end())
             (stack[-1][2] if stack else top).append(node)
         else:
+            if suspect is None and tok.startswith(":") and stack and stack[-1][2]:
+                head = stack[-1][2][0]  # a list never starts with a list in PDDL
+                if isinstance(head, _List) or (
+                    not head.text.startswith(":") and head.text != "define"
+                ):
+                    suspect = (stack[-1][0], f"'{tok}'", line)
             (stack[-1][2] if stack else top).append(_Tok(tok, line, m.end()))
     if stack:
+        if suspect is not None:
+            opened, what, inside = suspect
+            raise PDDLError(
+                f"'(' is never closed (unbalanced parentheses): {what} on line {inside} "
+                f"is inside it (a ')' missing before line {inside}, or a '(' too many)",
+                path=path,
+                where=f"line {opened}",
+            )
         raise PDDLError(
-            "'(' is never closed (unbalanced parentheses)", path=path, where=f"line {stack[0][0]}"
+            "'(' is never closed (unbalanced parentheses)", path=path, where=f"line {stack[-1][0]}"
         )
     if not top:
         raise PDDLError("file is empty", path=path)
@@ -585,6 +627,17 @@ class _Checker:
         saw_init = saw_goal = False
         for key, node in self.sections(root):
             if key == ":domain":
+                named = node.items[1] if len(node.items) == 2 else None
+                if isinstance(named, _Tok) and named.text != info.name:
+                    # human problems are often shared by domains of other names: read it
+                    warnings.warn(
+                        PDDLWarning(
+                            f"{self.path}: line {named.line}: the problem names domain "
+                            f"'{named.text}' but the domain file defines '{info.name}'; "
+                            f"reading it as a problem of '{info.name}'"
+                        ),
+                        stacklevel=2,
+                    )
                 continue
             if key == ":requirements":
                 self.requirements(node)

@@ -43,6 +43,42 @@ def parse_plan(text: str, *, path: str = "<plan>") -> tuple[PlanStep, ...]:
     return tuple(steps)
 
 
+def as_plan(plan: object, *, what: str = "plan") -> tuple[PlanStep, ...]:
+    """A plan given through the library API, in any of the forms a user writes one: IPC text
+    (``"(move p1 p6)\n(take_picture p6)"``), a sequence of step strings (``"(move p1 p6)"``
+    or ``"move p1 p6"``) or of tuples (``("MOVE", "P1", "P6")``); names in any case, as the
+    CLI reads them.  Anything else is a :class:`UsageError` saying what was expected."""
+    from mega_sat.errors import UsageError
+
+    if isinstance(plan, str):
+        return parse_plan(plan, path=what)
+    if isinstance(plan, bytes) or not isinstance(plan, Iterable):
+        raise UsageError(
+            f"{what} must be a sequence of steps such as ('move', 'p1', 'p6') or "
+            f"'(move p1 p6)', got {type(plan).__name__}"
+        )
+    steps: list[PlanStep] = []
+    for k, step in enumerate(plan, 1):
+        if isinstance(step, str):
+            text = step.strip()
+            if not text.startswith("("):
+                text = f"({text})"
+            parsed = parse_plan(text, path=f"{what} step {k}")
+            if len(parsed) != 1:
+                raise UsageError(f"{what} step {k}: expected one step, got {step!r}")
+            steps.append(parsed[0])
+        elif isinstance(step, tuple | list) and step and all(isinstance(x, str) for x in step):
+            if any(not x.strip() or any(c.isspace() or c in "()" for c in x) for x in step):
+                raise UsageError(f"{what} step {k}: malformed name in {tuple(step)!r}")
+            steps.append(tuple(x.lower() for x in step))
+        else:
+            raise UsageError(
+                f"{what} step {k}: expected a tuple of names such as ('move', 'p1', 'p6') "
+                f"or a string '(move p1 p6)', got {step!r}"
+            )
+    return tuple(steps)
+
+
 def read_plan(path: str | Path) -> tuple[PlanStep, ...]:
     """Read a plan file; a missing or unreadable file is a :class:`PDDLError` naming it."""
     from mega_sat.pddl_reader import read_text

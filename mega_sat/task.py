@@ -129,20 +129,30 @@ class TwoModelTask:
 
     def updated_model(self, selection: Iterable[int]) -> Model:
         """``human + E`` for ``E`` given as indices into ``delta``."""
-        return apply_updates(self.human, self.robot, [self.delta[i] for i in sorted(selection)])
+        sel = self.check_selection(selection)
+        return apply_updates(self.human, self.robot, [self.delta[i] for i in sorted(sel)])
 
     def selection_from_names(self, names: Iterable[str], *, path: str | None = None) -> Selection:
         """Turn ``add-...``/``remove-...`` lines into a selection; unknown lines are an error."""
+        if isinstance(names, str):
+            names = names.splitlines()
         out = set()
         for lineno, raw in enumerate(names, 1):
-            line = raw.strip()
+            if not isinstance(raw, str):
+                raise UsageError(
+                    f"an explanation is update names (str), got {type(raw).__name__}",
+                    path=path,
+                    where=f"line {lineno}",
+                )
+            line = raw.replace("\ufeff", "").strip()
             if line.startswith("Explanation >>"):
                 line = line[len("Explanation >>") :].strip()
             if not line or line.startswith(";") or line.startswith("#"):
                 continue
             if line not in self.update_index:
+                shown = line if line.isprintable() else ascii(line)
                 raise UsageError(
-                    f"'{line}' is not an update of the model difference (see 'mega-sat diff')",
+                    f"'{shown}' is not an update of the model difference (see 'mega-sat diff')",
                     path=path,
                     where=f"line {lineno}",
                 )
@@ -151,4 +161,20 @@ class TwoModelTask:
 
     def names(self, selection: Iterable[int]) -> list[str]:
         """Update names of a selection, in canonical order."""
-        return [self.delta[i].name for i in sorted(selection)]
+        return [self.delta[i].name for i in sorted(self.check_selection(selection))]
+
+    def check_selection(self, selection: Iterable[int]) -> Selection:
+        """``selection`` as a frozenset of valid indices into ``delta``; anything else (an index
+        out of range, a negative one, a name) is a :class:`UsageError`."""
+        if isinstance(selection, str | bytes):
+            raise UsageError("a selection is a set of update indices, got a string")
+        out = set()
+        for i in selection:
+            if isinstance(i, bool) or not isinstance(i, int):
+                raise UsageError(f"a selection holds update indices (int), got {i!r}")
+            if not 0 <= i < len(self.delta):
+                raise UsageError(
+                    f"update index {i} is out of range (Delta has {len(self.delta)} updates)"
+                )
+            out.add(i)
+        return frozenset(out)

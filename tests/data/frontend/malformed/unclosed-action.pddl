@@ -1,0 +1,12 @@
+(define (domain base)
+  (:requirements :strips)
+  (:predicates (p ?x) (q ?x) (r ?x ?y))
+  (:action a
+    :parameters (?x)
+    :precondition (p ?x)
+    :effect (q ?x)
+
+  (:action b
+    :parameters (?x ?y)
+    :precondition (q ?x)
+    :effect (r ?x ?y)))

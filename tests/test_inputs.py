@@ -1,0 +1,114 @@
+"""Input a user writes by hand: byte-order marks, mismatched domain names, wrong argument types
+at the library boundary, plans in any of the forms a user writes them."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import warnings
+from pathlib import Path
+
+import pytest
+
+from mega_sat.errors import MegaSatError, UsageError
+from mega_sat.loading import load_task, load_task_from_strings
+from mega_sat.pddl_reader import PDDLWarning
+from mega_sat.planio import as_plan
+
+ROOT = Path(__file__).resolve().parent.parent
+USAR = ROOT / "domains" / "usar-fetch"
+FILES = (
+    USAR / "robot-domain.pddl",
+    USAR / "p1" / "robot-problem.pddl",
+    USAR / "human-domain.pddl",
+    USAR / "p1" / "human-problem.pddl",
+)
+
+
+def _usar():
+    return load_task(*FILES)
+
+
+def test_a_utf8_byte_order_mark_is_accepted(tmp_path):
+    bom = tmp_path / "robot-domain.pddl"
+    bom.write_bytes(b"\xef\xbb\xbf" + FILES[0].read_bytes())
+    task = load_task(bom, *FILES[1:])
+    assert [u.name for u in task.delta] == [u.name for u in _usar().delta]
+    texts = [p.read_text() for p in FILES]
+    texts[1] = "\ufeff" + texts[1]
+    assert len(load_task_from_strings(*texts).delta) == 3
+
+
+def test_explanation_lines_with_a_byte_order_mark_and_invisible_characters():
+    task = _usar()
+    first = task.delta[0].name
+    assert task.selection_from_names(["\ufeff" + first]) == frozenset({0})
+    with pytest.raises(UsageError) as info:
+        task.selection_from_names([first + "\u200b"])
+    assert "\\u200b" in str(info.value)  # shown, not invisible
+
+
+def test_a_problem_naming_another_domain_is_read_with_a_warning(tmp_path):
+    problem = tmp_path / "human-problem.pddl"
+    problem.write_text(FILES[3].read_text().replace("(:domain usar-fetch)", "(:domain other)"))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        task = load_task(*FILES[:3], problem)
+    assert len(task.delta) == 3
+    msgs = [str(w.message) for w in caught if issubclass(w.category, PDDLWarning)]
+    assert len(msgs) == 1
+    assert msgs[0].startswith(f"{problem}: line ")
+    assert "names domain 'other' but the domain file defines 'usar-fetch'" in msgs[0]
+
+
+def test_the_cli_prints_the_warning_as_one_line(tmp_path):
+    problem = tmp_path / "human-problem.pddl"
+    problem.write_text(FILES[3].read_text().replace("(:domain usar-fetch)", "(:domain other)"))
+    r = subprocess.run(
+        [sys.executable, "-m", "mega_sat.cli", "diff"]
+        + ["--robot-domain", str(FILES[0]), "--robot-problem", str(FILES[1])]
+        + ["--human-domain", str(FILES[2]), "--human-problem", str(problem)],
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+    )
+    assert r.returncode == 0, r.stderr
+    assert r.stderr.startswith("warning: ") and r.stderr.count("\n") == 1
+    assert len(r.stdout.splitlines()) == 3
+
+
+def test_load_task_given_pddl_text_says_so():
+    with pytest.raises(UsageError, match="looks like PDDL text, not a file path"):
+        load_task(FILES[0].read_text(), *FILES[1:])
+
+
+@pytest.mark.parametrize("bad", [None, 5, b"(define)"])
+def test_load_task_from_strings_refuses_non_text(bad):
+    texts = [p.read_text() for p in FILES]
+    with pytest.raises(UsageError, match="robot_domain must be PDDL text"):
+        load_task_from_strings(bad, *texts[1:])
+
+
+@pytest.mark.parametrize("bad", [{99}, {-1}, {3}, {"0"}, {True}, "0"])
+def test_selections_outside_delta_are_refused(bad):
+    task = _usar()
+    with pytest.raises(UsageError):
+        task.names(bad)
+    with pytest.raises(UsageError):
+        task.updated_model(bad)
+
+
+def test_plans_in_any_form_and_case():
+    want = (("move", "p1", "p6"), ("take_picture", "p6"))
+    assert as_plan([("MOVE", "P1", "P6"), ["take_picture", "p6"]]) == want
+    assert as_plan("(move p1 p6)\n(TAKE_PICTURE p6)\n; cost = 2") == want
+    assert as_plan(["move p1 p6", "(take_picture p6)"]) == want
+    assert as_plan(()) == ()
+
+
+@pytest.mark.parametrize("bad", [5, [5], [()], ["(a"], [("a b",)], [("a", 3)], b"(a)"])
+def test_malformed_plans_are_one_clear_error(bad):
+    with pytest.raises(MegaSatError) as info:
+        as_plan(bad)
+    assert str(info.value).startswith("error: plan")
+    assert "\n" not in str(info.value)
