@@ -29,9 +29,6 @@ from itertools import groupby, product
 from operator import itemgetter
 from typing import Protocol
 
-import numpy as np
-
-from mega_sat.atom_table import AtomTable, object_indices
 from mega_sat.errors import PDDLError
 from mega_sat.family import CostCase, Entry, GroundAction, GroundFamily, GroundTask, Guard
 from mega_sat.features import (
@@ -322,6 +319,10 @@ def _sorted_args(rows: set[tuple[str, ...]], index_of: dict[str, int]) -> list[t
     are sorted, so the order is the same) with numpy, which is much faster on tuples."""
     if len(rows) < 1000:
         return sorted(rows)
+    import numpy as np  # imported only where it pays: small tasks start faster without it
+
+    from mega_sat.atom_table import object_indices
+
     listed = list(rows)
     idx = object_indices(listed, index_of)
     if idx is None:
@@ -498,7 +499,7 @@ def ground(
         s.name: _fixed_cost_cases(s.name, robot.schemas.get(s.name), human.schemas.get(s.name))
         for s in schemas
     }
-    table = AtomTable(ids, objects)
+    table = None  # an AtomTable, made for the first schema large enough to vectorise
     actions: list[GroundAction] = []
     for name, block in groupby(reachable, key=itemgetter(0)):
         arg_rows = [args for _, args in block]
@@ -506,9 +507,14 @@ def ground(
         parts = (comp.pre, comp.negpre, comp.add, comp.delete)
         entries = None
         if vectorise_from is not None and len(arg_rows) >= vectorise_from:
+            if table is None:
+                from mega_sat.atom_table import AtomTable
+
+                table = AtomTable(ids, objects)
             entries = table.ground_block(parts, params[name], arg_rows)
         if entries is None:  # per action (the reference path)
-            table.forget()  # the path below may give atoms fresh ids
+            if table is not None:
+                table.forget()  # the path below may give atoms fresh ids
             templates = [_template(part, params[name]) for part in parts]
             entries = []
             for args in arg_rows:
