@@ -13,7 +13,6 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from mega_sat.errors import UsageError
 from mega_sat.model import Atom, CostTerm, Model, Schema, atom_pddl
 
 
@@ -146,14 +145,11 @@ def problem_to_pddl(model: Model) -> str:
 
 
 def write_text(path: Path, text: str, *, overwrite: bool = False) -> Path:
-    """Write ``text`` to ``path``; an existing file is a :class:`UsageError` unless allowed."""
-    if path.exists() and not overwrite:
-        raise UsageError("file exists (use --force / overwrite=True to replace it)", path=str(path))
-    try:
-        path.write_text(text, encoding="utf-8")
-    except OSError as e:
-        raise UsageError(f"cannot write file: {e.strerror}", path=str(path)) from None
-    return path
+    """Write ``text`` to ``path`` atomically (:func:`mega_sat.output.write_file`); an existing
+    file is a :class:`~mega_sat.errors.UsageError` unless ``overwrite``."""
+    from mega_sat.output import write_file
+
+    return write_file(path, text, force=overwrite)
 
 
 def write_model(
@@ -168,18 +164,12 @@ def write_model(
 
     Neither file is written when either one exists and ``overwrite`` is false.
     """
+    from mega_sat.output import check_target
+
     out = Path(out_dir)
     dpath, ppath = out / domain_file, out / problem_file
-    if not overwrite:
-        for p in (dpath, ppath):
-            if p.exists():
-                raise UsageError(
-                    "file exists (use --force / overwrite=True to replace it)", path=str(p)
-                )
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as e:
-        raise UsageError(f"cannot create directory: {e.strerror}", path=str(out)) from None
+    for p in (dpath, ppath):
+        check_target(p, force=overwrite)
     write_text(dpath, domain_to_pddl(model), overwrite=overwrite)
     write_text(ppath, problem_to_pddl(model), overwrite=overwrite)
     return dpath, ppath

@@ -1,0 +1,106 @@
+"""Writes that cannot half-happen (mega_sat/output.py)."""
+
+from __future__ import annotations
+
+import errno
+import os
+
+import pytest
+
+from mega_sat.errors import UsageError
+from mega_sat.output import OutputError, OutputFolder, check_target, write_file
+from mega_sat.pddl_writer import write_text
+
+
+def _leftovers(folder):
+    return sorted(p.name for p in folder.iterdir() if p.name.startswith("."))
+
+
+def test_write_file_refuses_an_existing_file_unless_forced(tmp_path):
+    target = tmp_path / "plan.ipc"
+    write_file(target, "old\n")
+    with pytest.raises(UsageError, match="file exists"):
+        write_file(target, "new\n")
+    assert target.read_text() == "old\n"
+    write_file(target, "new\n", force=True)
+    assert target.read_text() == "new\n"
+    assert _leftovers(tmp_path) == []
+
+
+def test_a_full_disk_leaves_the_old_file_and_no_temporary(tmp_path, monkeypatch):
+    target = tmp_path / "domain.pddl"
+    target.write_text("old\n")
+    real = os.fdopen
+
+    class Full:
+        def __init__(self, f):
+            self.f = f
+
+        def __enter__(self):
+            return self
+
+        def __exit__(self, *exc):
+            self.f.close()
+
+        def write(self, text):
+            raise OSError(errno.ENOSPC, "No space left on device")
+
+        def flush(self):
+            pass
+
+    monkeypatch.setattr(os, "fdopen", lambda fd, *a, **k: Full(real(fd, *a, **k)))
+    with pytest.raises(OutputError, match="No space left on device") as info:
+        write_text(target, "new\n", overwrite=True)
+    assert str(info.value).startswith(f"error: {target}: cannot write file")
+    assert target.read_text() == "old\n"
+    assert _leftovers(tmp_path) == []
+
+
+def test_an_interrupt_while_writing_leaves_no_temporary(tmp_path, monkeypatch):
+    def interrupted(*a, **k):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(os, "replace", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        write_file(tmp_path / "x.txt", "text")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_check_target_refuses_early(tmp_path):
+    (tmp_path / "out").mkdir()
+    (tmp_path / "out" / "old.txt").write_text("x")
+    with pytest.raises(UsageError, match="folder exists"):
+        OutputFolder(tmp_path / "out")
+    (tmp_path / "afile").write_text("x")
+    with pytest.raises(UsageError, match="not a folder"):
+        OutputFolder(tmp_path / "afile", force=True)
+    with pytest.raises(UsageError, match="is not a folder"):
+        check_target(tmp_path / "afile" / "inner" / "x.txt", force=False)
+    assert OutputFolder(tmp_path / "empty-is-fine").target.name == "empty-is-fine"
+
+
+def test_force_replaces_the_earlier_folder_as_a_whole(tmp_path):
+    target = tmp_path / "models"
+    with OutputFolder(target) as out:
+        for k in range(3):
+            write_file(out.path / f"point-{k}" / "plan.ipc", f"{k}\n")
+        out.commit()
+    assert sorted(p.name for p in target.iterdir()) == ["point-0", "point-1", "point-2"]
+    with OutputFolder(target, force=True) as out:
+        write_file(out.path / "point-0" / "plan.ipc", "new\n")
+        out.commit()
+    assert sorted(p.name for p in target.iterdir()) == ["point-0"]
+    assert (target / "point-0" / "plan.ipc").read_text() == "new\n"
+    assert _leftovers(tmp_path) == []
+
+
+@pytest.mark.parametrize("failure", [RuntimeError, KeyboardInterrupt])
+def test_a_failure_before_commit_leaves_the_target_untouched(tmp_path, failure):
+    target = tmp_path / "models"
+    target.mkdir()
+    (target / "keep.txt").write_text("earlier run")
+    with pytest.raises(failure), OutputFolder(target, force=True) as out:
+        write_file(out.path / "half.txt", "x")
+        raise failure
+    assert [p.name for p in target.iterdir()] == ["keep.txt"]
+    assert _leftovers(tmp_path) == []
