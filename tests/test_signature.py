@@ -213,3 +213,18 @@ def test_vectorised_grounding_equals_per_action_on_random_tasks(data):
             u.feature.kind == PRE and u.feature.action == name and u.feature.atom in s.signature
             for u in task.delta
         )
+
+
+def test_large_families_skip_the_swap_search(tmp_path):
+    """The swap search is one pass over every action per candidate pair; above
+    ``symmetry.MAX_ACTIONS`` it is skipped (symmetry breaking only prunes mirror plans)."""
+    from mega_sat.symmetry import MAX_ACTIONS, object_swaps
+
+    task = _load_dir(_write_eight_parameter_task(tmp_path / "tpp8", per_type=4))
+    fam = ground(task)
+    assert len(fam.actions) > MAX_ACTIONS
+    assert object_swaps(fam) == []
+    small = carry_task()
+    fam_small = ground(small)
+    assert object_swaps(fam_small, max_actions=0) == []
+    assert object_swaps(fam_small) == object_swaps(fam_small, max_actions=len(fam_small.actions))
