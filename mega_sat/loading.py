@@ -43,6 +43,11 @@ def load_task(
         ("human_domain", human_domain),
         ("human_problem", human_problem),
     ):
+        if p == role:
+            raise UsageError(
+                f"load_task: got the name '{role}' instead of a path (pass the dict of "
+                "resolve_task_dir as load_task(**paths), or use load_task_dir)"
+            )
         if isinstance(p, str) and ("(" in p or "\n" in p):
             raise UsageError(
                 f"load_task: {role} looks like PDDL text, not a file path "
@@ -107,6 +112,11 @@ def _build(texts: dict[str, str], names: dict[str, str]) -> TwoModelTask:
         problem_path=names["human_problem"],
     )
     return TwoModelTask.from_models(robot, human, sources=dict(names))
+
+
+def load_task_dir(d: str | Path) -> TwoModelTask:
+    """The task of a ``--task DIR`` folder (see :func:`resolve_task_dir`)."""
+    return load_task(**resolve_task_dir(d))
 
 
 def resolve_task_dir(d: str | Path) -> dict[str, Path]:

@@ -112,3 +112,12 @@ def test_malformed_plans_are_one_clear_error(bad):
         as_plan(bad)
     assert str(info.value).startswith("error: plan")
     assert "\n" not in str(info.value)
+
+
+def test_a_task_folder_loads_in_one_call_and_a_starred_dict_is_explained():
+    from mega_sat.loading import load_task_dir, resolve_task_dir
+
+    paths = resolve_task_dir(USAR / "p1")
+    assert load_task_dir(USAR / "p1").delta == load_task(**paths).delta
+    with pytest.raises(UsageError, match=r"load_task\(\*\*paths\)"):
+        load_task(*paths)
