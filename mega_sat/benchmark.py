@@ -8,6 +8,10 @@ Suites:
 * ``sweep``   — one ``sat`` frontier per base problem ``domains/<name>/<pN>``, re-scored for a grid
   of alpha values (paper property 4), reproducing the paper's trade-off figure;
 * ``smoke``   — one small base problem, both engines (what the tests run);
+* ``missing-schemas`` — the hand-written problems ``domains/missing-schemas/<name>/<pN>``, whose
+  human models lack whole robot schemas (|Delta| 20-50): both engines, the ``sat`` engine in its
+  default configuration, plus one Fast Downward call on the robot model to read the frontier
+  time as a multiple of "just planning";
 * ``all``     — paper + scaling + sweep.
 
 Every engine run is a separate subprocess (``python -m mega_sat.benchmark _run ...``) so that a
@@ -54,11 +58,24 @@ from typing import Any
 
 import click
 
-SUITES = ("paper", "scaling", "sweep", "smoke", "all")
+SUITES = ("paper", "scaling", "sweep", "smoke", "missing-schemas", "all")
 PAPER_DELTAS = (2, 7, 10)
 SCALING_DELTAS = (15, 20, 30)
 ALPHA_GRID = (0, 0.05, 0.1, 0.2, 0.3, 0.5, 0.75, 1, 1.5, 2, 3, 5, 10)
-DEFAULT_LIMITS = {"paper": 300.0, "scaling": 60.0, "sweep": 300.0, "smoke": 60.0}
+DEFAULT_LIMITS = {
+    "paper": 300.0,
+    "scaling": 60.0,
+    "sweep": 300.0,
+    "smoke": 60.0,
+    "missing-schemas": 60.0,
+}
+# the folder under the domains root that holds the missing-schemas suite's domains; it has no
+# robot-domain.pddl itself, so the other suites' discovery (and generate-suite) skip it
+MISSING_SCHEMAS_DIR = "missing-schemas"
+# what the missing-schemas suite is read against: every frontier exact within this many
+# seconds, and the median frontier time within this multiple of one FD call on the robot model
+MISSING_SCHEMAS_TARGET_S = 10.0
+MISSING_SCHEMAS_TARGET_RATIO = 20.0
 SMOKE_INSTANCE = ("usar-fetch", "p1")
 ENGINES = ("astar", "sat")
 
@@ -78,6 +95,8 @@ CSV_FIELDS = (
     "load_s",
     "process_s",
     "delta_size",
+    "ground_atoms",
+    "ground_actions",
     "E_ropt",
     "E_alpha1",
     "robot_cost_alpha1",
@@ -159,6 +178,15 @@ def _matches(domain: str, problem: str, only: Sequence[str], delta: int | None =
 def discover(root: Path, suite: str, only: Sequence[str] = ()) -> list[Instance]:
     """The instances of one suite found on disk (generated Delta-k folders only)."""
     out: list[Instance] = []
+    if suite == "missing-schemas":
+        base = root / MISSING_SCHEMAS_DIR
+        for d in _domain_dirs(base) if base.is_dir() else []:
+            for p in sorted(
+                (p for p in d.iterdir() if _is_task_dir(p)), key=lambda p: _pkey(p.name)
+            ):
+                if _matches(d.name, p.name, only):
+                    out.append(Instance(suite, d.name, p.name, None, str(p)))
+        return out
     for d in _domain_dirs(root):
         if suite in ("sweep", "smoke"):
             for p in sorted(p for p in d.iterdir() if _is_task_dir(p)):
@@ -286,8 +314,10 @@ def run_engine(
     rec["delta_size"] = len(task.delta)
     solver = MegaSolver(task, engine=engine, planner=planner, timeout=time_limit)
     t1 = time.perf_counter()
-    _ = solver.family  # grounding, counted in ``seconds`` (the engine cannot run without it)
+    fam = solver.family  # grounding, counted in ``seconds`` (the engine cannot run without it)
     rec["ground_s"] = round(time.perf_counter() - t1, 4)
+    rec["ground_atoms"], rec["ground_actions"] = len(fam.atoms), len(fam.actions)
+    rec["planner_used"] = solver.planner  # the default configuration's choice when None
     try:
         if engine == "sat":
             fr = solver.frontier()
@@ -536,7 +566,7 @@ def run_job(job: Job, robot_call_planners: Sequence[str]) -> dict[str, Any]:
     rec = _spawn(args, _hard_limit(job.time_limit))
     rec.update({k: v for k, v in asdict(inst).items()})
     rec["engine"] = job.engine
-    rec["planner"] = job.planner or "builtin"
+    rec["planner"] = job.planner or rec.get("planner_used") or "builtin"
     rec["time_limit_s"] = job.time_limit
     if rec.get("status") != "error":
         rec.pop("traceback", None)
@@ -700,7 +730,7 @@ def disagreements(records: Iterable[dict[str, Any]]) -> list[dict[str, Any]]:
     """
     by: dict[tuple, dict[str, dict[str, Any]]] = {}
     for r in records:
-        if r.get("suite") in ("paper", "scaling", "smoke"):
+        if r.get("suite") in ("paper", "scaling", "smoke", "missing-schemas"):
             by.setdefault(record_key(r)[:4], {})[r["engine"]] = r
     out = []
     for key, pair in sorted(by.items(), key=lambda kv: str(kv[0])):
@@ -810,6 +840,100 @@ def summary(records: Sequence[dict[str, Any]]) -> list[str]:
     return out
 
 
+def _frontier_str(r: dict[str, Any] | None) -> str:
+    pts = (r or {}).get("frontier") or []
+    return " ".join(f"({e}, {c})" for e, c in pts) or "—"
+
+
+def _fd_call(r: dict[str, Any] | None) -> str:
+    v = (r or {}).get("robot_call_fd_s")
+    return _num(v) if v is not None else "—"
+
+
+def missing_schemas_table(records: Sequence[dict[str, Any]]) -> str:
+    """One row per missing-schemas instance: sizes, the sat frontier and its time, the FD
+    robot-model call and the ratio, and the A* baseline's time."""
+    idx = _index(records, "missing-schemas")
+    if not idx:
+        return "_no missing-schemas records_\n"
+    head = [
+        "Domain",
+        "Problem",
+        "\\|Δ\\|",
+        "ground actions",
+        "robot opt",
+        "frontier (\\|E\\|, robot cost)",
+        "sat s",
+        "exact",
+        "FD robot call s",
+        "sat / FD call",
+        "astar s",
+        "astar \\|E\\|",
+    ]
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for dom, prob in _rows(idx):
+        a, s = idx.get((dom, prob, None, "astar")), idx.get((dom, prob, None, "sat"))
+        any_rec = s or a or {}
+        ratio = (s or {}).get("ratio_sat_vs_fd_call")
+        exact = (
+            "—" if s is None else ("yes" if s.get("exact") and s.get("status") == "ok" else "no")
+        )
+        a_time = "timeout" if a and a.get("status") == "timeout" else fmt_seconds(a)
+        lines.append(
+            "| "
+            + " | ".join(
+                [
+                    dom,
+                    prob,
+                    str(any_rec.get("delta_size", "—")),
+                    str(any_rec.get("ground_actions", "—")),
+                    str(any_rec.get("robot_optimal_cost", "—")),
+                    _frontier_str(s),
+                    fmt_seconds(s),
+                    exact,
+                    _fd_call(s),
+                    _num(ratio) if ratio is not None else "—",
+                    a_time,
+                    fmt_size(a),
+                ]
+            )
+            + " |"
+        )
+    return "\n".join(lines) + "\n"
+
+
+def missing_schemas_summary(records: Sequence[dict[str, Any]]) -> list[str]:
+    """How the missing-schemas suite meets its targets: every frontier exact within
+    ``MISSING_SCHEMAS_TARGET_S`` and the median sat / FD-call ratio within
+    ``MISSING_SCHEMAS_TARGET_RATIO``."""
+    idx = _index(records, "missing-schemas")
+    sats = [r for (_, _, _, eng), r in idx.items() if eng == "sat"]
+    if not sats:
+        return ["No sat runs."]
+    ok = [r for r in sats if r.get("status") == "ok" and r.get("exact")]
+    fast = [
+        r for r in ok if r.get("seconds") is not None and r["seconds"] < MISSING_SCHEMAS_TARGET_S
+    ]
+    out = [
+        f"sat frontiers exact: {len(ok)} of {len(sats)}; exact in under "
+        f"{_num(MISSING_SCHEMAS_TARGET_S)} s: {len(fast)} of {len(sats)}."
+    ]
+    ratios = [r["ratio_sat_vs_fd_call"] for r in sats if r.get("ratio_sat_vs_fd_call") is not None]
+    if ratios:
+        out.append(
+            f"Median sat frontier time / one FD call on the robot model: "
+            f"{_num(statistics.median(ratios))} (n = {len(ratios)}; target < "
+            f"{_num(MISSING_SCHEMAS_TARGET_RATIO)})."
+        )
+    else:
+        out.append("Median sat / FD robot call: n/a (no FD call timed).")
+    astars = [r for (_, _, _, eng), r in idx.items() if eng == "astar"]
+    if astars:
+        done = sum(1 for r in astars if r.get("status") == "ok")
+        out.append(f"astar finished {done} of {len(astars)} within its limit.")
+    return out
+
+
 def scaling_table(records: Sequence[dict[str, Any]]) -> str:
     """Delta = 15/20/30: the table plus, per Delta, how many A* runs hit the limit."""
     idx = _index(records, "scaling")
@@ -880,12 +1004,19 @@ def render_markdown(
                 if r.get("engine") == "sat" and (j := (r.get("stats") or {}).get("joint"))
             }
         )
-        parts.append(
-            f"Optimal planner on candidate models: {', '.join(planners)} for both engines "
-            "(A*: per node; sat: OPT, after its cheaper proofs"
-            + (f"; JOINT by {' / '.join(joints)}" if joints else "")
-            + ")."
-        )
+        sat_planners = sorted({str(r.get("planner")) for r in records if r.get("engine") == "sat"})
+        joint_txt = f"; JOINT by {' / '.join(joints)}" if joints else ""
+        if sat_planners in ([], planners):
+            parts.append(
+                f"Optimal planner on candidate models: {', '.join(planners)} for both engines "
+                f"(A*: per node; sat: OPT, after its cheaper proofs{joint_txt})."
+            )
+        else:  # the missing-schemas suite runs sat in its default configuration
+            parts.append(
+                f"Optimal planner on candidate models: {', '.join(planners)} per node for A*; "
+                f"{', '.join(sat_planners)} for the sat engine's OPT, after its cheaper "
+                f"proofs{joint_txt}."
+            )
     parts.append("")
     if "paper" in suites:
         parts += [
@@ -896,6 +1027,13 @@ def render_markdown(
         parts += ["- " + s for s in summary(records)] + [""]
     if "scaling" in suites:
         parts += ["## Scaling (Δ = 15 / 20 / 30)", "", scaling_table(records)]
+    if "missing-schemas" in suites:
+        parts += [
+            "## Missing schemas (hand-written, robot-only schemas)",
+            "",
+            missing_schemas_table(records),
+        ]
+        parts += ["- " + s for s in missing_schemas_summary(records)] + [""]
     if "smoke" in suites:
         idx = _index(records, "smoke")
         parts += ["## Smoke", ""]
@@ -1055,6 +1193,10 @@ def plan_jobs(
         for inst in discover(root, s, only):
             if s == "sweep":
                 jobs.append(Job(inst, "sat", None, limit, tuple(ALPHA_GRID)))
+            elif s == "missing-schemas":
+                # the baseline as in the paper grid; the sat engine as a user runs it
+                jobs.append(Job(inst, "astar", baseline, limit))
+                jobs.append(Job(inst, "sat", None, limit))
             else:
                 # same kind of optimal planner on candidate models for both engines: the
                 # baseline's per-node planner is the sat engine's OPT planner (JOINT is SAT)
@@ -1192,7 +1334,9 @@ _fresh_option = click.option("--fresh", is_flag=True, help="Discard earlier reco
     default="smoke",
     show_default=True,
     help="paper: Δ=2/7/10 grid; scaling: Δ=15/20/30; sweep: alpha sweeps on the "
-    "base problems; smoke: one small instance; all: paper+scaling+sweep.",
+    "base problems; smoke: one small instance; missing-schemas: the hand-written "
+    "problems with robot-only schemas, both engines and one FD robot call; all: "
+    "paper+scaling+sweep.",
 )
 @_domains_option
 @click.option(
@@ -1205,14 +1349,15 @@ _fresh_option = click.option("--fresh", is_flag=True, help="Discard earlier reco
     "--time-limit",
     type=float,
     default=None,
-    help="Seconds per engine run (default: 300 paper and sweep, 60 scaling).",
+    help="Seconds per engine run (default: 300 paper and sweep, 60 scaling, smoke and "
+    "missing-schemas).",
 )
 @click.option(
     "--baseline-planner",
     type=click.Choice(["fd", "builtin"]),
     default=None,
     help="Per-node planner of the astar baseline, also the sat engine's OPT planner "
-    "(default: fd if installed).",
+    "except in missing-schemas (default: fd if installed).",
 )
 @click.option("--out", "out_dir", type=click.Path(), default="bench/results", show_default=True)
 @click.option(
@@ -1300,6 +1445,8 @@ __all__ = [
     "fmt_speedup",
     "generate_missing",
     "machine_info",
+    "missing_schemas_summary",
+    "missing_schemas_table",
     "paper_table",
     "render_markdown",
     "run_bench",

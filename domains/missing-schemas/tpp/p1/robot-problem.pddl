@@ -1,0 +1,13 @@
+;; tpp p1: two units of bread from market1 (courier service to the depot).
+(define (problem tpp-p1) (:domain tpp)
+  (:objects depot1 - depot market1 - market truck1 - truck bread - goods l0 l1 l2 - level)
+  (:init (= (total-cost) 0)
+    (next l0 l1) (next l1 l2)
+    (road depot1 market1) (road market1 depot1)
+    (open market1) (courier market1 depot1)
+    (at truck1 depot1)
+    (on-sale bread market1 l2)
+    (loaded bread truck1 l0)
+    (stored bread l0))
+  (:goal (and (stored bread l2)))
+  (:metric minimize (total-cost)))

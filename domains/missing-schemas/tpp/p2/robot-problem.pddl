@@ -1,0 +1,15 @@
+;; tpp p2: one unit of bread, sold only at market2, two roads away from the depot
+;; (depot1 - market1 - market2); market2 has a courier service to the depot.
+(define (problem tpp-p2) (:domain tpp)
+  (:objects depot1 - depot market1 market2 - market truck1 - truck bread - goods l0 l1 - level)
+  (:init (= (total-cost) 0)
+    (next l0 l1)
+    (road depot1 market1) (road market1 depot1)
+    (road market1 market2) (road market2 market1)
+    (open market1) (open market2) (courier market2 depot1)
+    (at truck1 depot1)
+    (on-sale bread market2 l1)
+    (loaded bread truck1 l0)
+    (stored bread l0))
+  (:goal (and (stored bread l1)))
+  (:metric minimize (total-cost)))
