@@ -20,9 +20,11 @@ from __future__ import annotations
 from collections.abc import Iterable, Sequence
 from functools import cached_property
 
+from mega_sat.deadline import Deadline
 from mega_sat.errors import UsageError
 from mega_sat.family import GroundFamily, PlanStep
 from mega_sat.loading import load_task, load_task_from_strings
+from mega_sat.progress import Progress
 from mega_sat.results import Explanation, Frontier, FrontierPoint, Solution, choose
 from mega_sat.sat_engine import default_joint, default_planner
 from mega_sat.task import TwoModelTask
@@ -67,6 +69,14 @@ class MegaSolver:
     Defaults (``None``, see :func:`default_planner`): ``astar`` uses ``builtin``; ``sat`` uses
     SAT for both OPT and JOINT, unless some action costs 0, where the horizon argument fails
     and ``builtin`` with ``portfolio`` keep the answers exact.
+
+    ``timeout`` (seconds) is one time limit for everything the solver does from its creation
+    on: grounding, the encodings, every call and every search, SAT call and subprocess within
+    them (``deadline``: the same as a :class:`~mega_sat.deadline.Deadline` made by the
+    caller, e.g. the CLI's, which counts from the start of the process).  At the limit the
+    ``sat`` engine's frontier returns what it has proven, marked incomplete; a step with
+    nothing to report raises :class:`~mega_sat.deadline.TimeLimitReached`, after which
+    :meth:`partial_frontier` still gives what was proven.
     """
 
     def __init__(
@@ -79,13 +89,16 @@ class MegaSolver:
         solver: str = "cadical195",
         timeout: float | None = None,
         joint: str | None = None,
+        deadline: Deadline | None = None,
     ):
         if engine not in ENGINES:
             raise UsageError(f"unknown engine {engine!r} (choose from {', '.join(ENGINES)})")
         if hitting_set not in ("rc2", "ilp"):
             raise UsageError(f"unknown hitting-set solver {hitting_set!r} (choose rc2 or ilp)")
-        if timeout is not None and not timeout > 0:
-            raise UsageError(f"timeout must be > 0 seconds, got {timeout!r}")
+        if deadline is None:
+            deadline = Deadline.after(timeout)
+        elif timeout is not None:
+            raise UsageError("give either timeout or deadline, not both")
         from mega_sat.sat_engine import JOINT_METHODS
 
         if joint is not None and joint not in JOINT_METHODS:
@@ -98,7 +111,9 @@ class MegaSolver:
         self._planner = planner
         self.hitting_set = hitting_set
         self.solver = solver
-        self.timeout = timeout
+        self.deadline = deadline
+        self.timeout = deadline.seconds
+        self.progress = Progress()
         self._frontier: Frontier | None = None
 
     @property
@@ -119,13 +134,21 @@ class MegaSolver:
     def family(self) -> GroundFamily:
         from mega_sat.grounding import ground
 
-        return ground(self.task)
+        self.deadline.check()
+        fam = ground(self.task, deadline=self.deadline if self.deadline.limited else None)
+        self.deadline.check()
+        return fam
 
     @cached_property
     def oracles(self):
         from mega_sat.oracles import SatOracles
 
-        return SatOracles(self.family, solver=self.solver)
+        family = self.family
+        orc = SatOracles(family, solver=self.solver)
+        if self.deadline.limited:
+            orc.set_deadline(self.deadline.at)
+        self.deadline.check()
+        return orc
 
     def _oracles_if_needed(self):
         return self.oracles if (self.engine == "sat" or self.planner == "sat") else None
@@ -142,8 +165,9 @@ class MegaSolver:
                     oracles=self.oracles,
                     planner=self.planner,
                     hitting_set=self.hitting_set,
-                    timeout=self.timeout,
                     joint=self.joint,
+                    deadline=self.deadline,
+                    progress=self.progress,
                 )
             else:
                 from mega_sat.astar_engine import astar_frontier
@@ -152,10 +176,28 @@ class MegaSolver:
                     self.task,
                     self.family,
                     planner=self.planner,
-                    timeout=self.timeout,
                     oracles=self._oracles_if_needed(),
+                    deadline=self.deadline,
+                    progress=self.progress,
                 )
         return self._frontier
+
+    def partial_frontier(self, reason: str) -> Frontier | None:
+        """After a run was stopped from outside (:class:`~mega_sat.deadline.TimeLimitReached`,
+        :class:`~mega_sat.errors.Interrupted`): the points proven so far as an incomplete
+        frontier, ``reason`` saying why it stopped; ``None`` if the robot optimum was not
+        known yet (nothing to report)."""
+        if self._frontier is not None:
+            return self._frontier
+        return self.progress.frontier(reason)
+
+    def partial_solution(self, alpha: float, reason: str) -> Solution | None:
+        """:meth:`solve`'s answer among the points proven so far (see
+        :meth:`partial_frontier`); ``None`` without any point."""
+        fr = self.partial_frontier(reason)
+        if fr is None or not fr.points:
+            return None
+        return choose(fr, _check_alpha(alpha))
 
     def solve(self, alpha: float) -> Solution:
         """MEGA's answer for one alpha.
@@ -173,8 +215,9 @@ class MegaSolver:
             self.family,
             alpha,
             planner=self.planner,
-            timeout=self.timeout,
             oracles=self._oracles_if_needed(),
+            deadline=self.deadline,
+            progress=self.progress,
         )
 
     def explain(self, plan: Sequence[PlanStep] | None = None) -> Explanation:
@@ -189,7 +232,7 @@ class MegaSolver:
             planner=planner,
             hitting_set=self.hitting_set,
             oracles=self.oracles if planner == "sat" else None,
-            timeout=self.timeout,
+            deadline=self.deadline,
         )
 
     def verify(
@@ -224,6 +267,7 @@ class MegaSolver:
             human_cost=hc,
             use_val=use_val,
             oracles=reuse,
+            deadline=self.deadline,
         )
 
 

@@ -21,23 +21,42 @@ import itertools
 import math
 import time
 
+from mega_sat.deadline import Deadline, TimeLimitReached
 from mega_sat.errors import UnsolvableError
 from mega_sat.family import GroundFamily
 from mega_sat.node_planner import NodePlanner
+from mega_sat.progress import Progress
 from mega_sat.results import Frontier, FrontierPoint, Solution, exact_alpha, pareto_filter
 from mega_sat.simulate import simulate_ground
 from mega_sat.task import TwoModelTask
 
+DISCLAIMER = (
+    "A* baseline: each model is judged by one optimal plan of its planner; ties "
+    "between optimal plans can hide better answers, so no optimality is claimed"
+)
+
 
 class _Search:
-    """State of one run of MEGA-Search, shared by ``solve`` and ``frontier``."""
+    """State of one run of MEGA-Search, shared by ``solve`` and ``frontier``.
+
+    The planner's calls are cut at ``planner.deadline``; the search then stops and keeps the
+    nodes evaluated so far.  Each evaluated node the robot can execute is also published to
+    ``progress``, for a caller whose run is stopped from outside.
+    """
 
     def __init__(
-        self, task: TwoModelTask, family: GroundFamily, planner: NodePlanner, timeout: float | None
+        self,
+        task: TwoModelTask,
+        family: GroundFamily,
+        planner: NodePlanner,
+        progress: Progress | None = None,
     ):
         self.task, self.family, self.planner = task, family, planner
         self.t0 = time.perf_counter()
-        self.deadline = None if timeout is None else self.t0 + timeout
+        self.deadline = planner.deadline
+        self.progress = progress if progress is not None else Progress()
+        self.progress.start("astar", tuple(u.name for u in task.delta))
+        self.progress.notes.append(DISCLAIMER)
         self.robot_task = family.specialize(family.robot_selection)
         self.nodes: list[tuple[frozenset[int], tuple, int | None, int | None]] = []
         self.expanded = 0
@@ -54,6 +73,7 @@ class _Search:
             raise UnsolvableError(f"no plan found for the robot problem ({r.reason})", path=src)
         self.c_robot = r.cost
         self.exact_planner &= r.exact
+        self.progress.robot_optimal_cost = r.cost
 
     def run(self, alpha: float) -> tuple[frozenset[int], tuple, int | None, int | None, float]:
         """Algorithm 1; returns the minimum node ``(E, pi*, robot cost, human cost, obj)``."""
@@ -65,16 +85,21 @@ class _Search:
         best_obj = math.inf
         n = len(self.task.delta)
         while fringe:
-            if self.deadline is not None and time.perf_counter() > self.deadline:
-                self.timed_out = True
-                self.notes.append("time limit reached before the stopping node")
+            if self.deadline.expired():
+                self._time_out()
                 break
             c, _, sel = heapq.heappop(fringe)
             if sel in closed:
                 self.duplicates += 1
                 continue
             self.expanded += 1
-            r = self.planner.optimal(sel)
+            try:
+                r = self.planner.optimal(sel)
+            except TimeLimitReached as e:
+                if e.forced:
+                    raise
+                self._time_out()
+                break
             self.exact_planner &= r.exact
             rc = hc = None
             obj = math.inf
@@ -86,6 +111,10 @@ class _Search:
                     rc = sim.cost
                     obj = len(sel) + a * abs(rc - self.c_robot)
             self.nodes.append((sel, plan, rc, hc))
+            if rc is not None:
+                self.progress.points.append(
+                    FrontierPoint(tuple(self.task.names(sel)), sel, tuple(plan), rc, hc)
+                )
             if obj <= best_obj:
                 best, best_obj = (sel, plan, rc, hc), obj
             if rc is not None and rc == self.c_robot:
@@ -100,17 +129,17 @@ class _Search:
             return (frozenset(), (), None, None, math.inf)
         return (*best, best_obj)
 
+    def _time_out(self) -> None:
+        self.timed_out = True
+        self.notes.append("time limit reached before the stopping node")
+
     def frontier(self) -> Frontier:
         pts = [
             FrontierPoint(tuple(self.task.names(sel)), sel, tuple(plan), rc, hc)
             for sel, plan, rc, hc in self.nodes
             if rc is not None
         ]
-        notes = [
-            "A* baseline: each model is judged by one optimal plan of its planner; ties "
-            "between optimal plans can hide better answers, so no optimality is claimed"
-        ]
-        notes += self.notes
+        notes = [DISCLAIMER, *self.notes]
         if not self.exact_planner:
             notes.append("some per-node planner calls were not proven optimal")
         return Frontier(
@@ -140,17 +169,22 @@ def astar_solve(
     planner: str = "builtin",
     timeout: float | None = None,
     oracles=None,
+    deadline: Deadline | None = None,
+    progress: Progress | None = None,
 ) -> Solution:
-    """Algorithm 1 for one ``alpha``: the paper's answer, with the explored nodes as frontier."""
-    np_ = NodePlanner(task, family, planner, oracles=oracles)
-    s = _Search(task, family, np_, timeout)
+    """Algorithm 1 for one ``alpha``: the paper's answer, with the explored nodes as frontier.
+
+    ``deadline`` (or ``timeout`` seconds from now): the search stops there with the best node
+    so far; before any node the robot can execute it raises :class:`TimeLimitReached`."""
+    deadline = deadline if deadline is not None else Deadline.after(timeout)
+    np_ = NodePlanner(task, family, planner, oracles=oracles, deadline=deadline)
+    s = _Search(task, family, np_, progress)
     sel, plan, rc, hc, obj = s.run(alpha)
     fr = s.frontier()
     if rc is None:
-        raise UnsolvableError(
-            "MEGA-Search found no plan executable by the robot"
-            + (" before the time limit" if s.timed_out else "")
-        )
+        if s.timed_out:
+            raise TimeLimitReached(deadline.seconds)
+        raise UnsolvableError("MEGA-Search found no plan executable by the robot")
     chosen = FrontierPoint(tuple(task.names(sel)), sel, tuple(plan), rc, hc)
     return Solution(alpha, chosen, chosen.objective(alpha, fr.robot_optimal_cost), fr)
 
@@ -162,9 +196,13 @@ def astar_frontier(
     planner: str = "builtin",
     timeout: float | None = None,
     oracles=None,
+    deadline: Deadline | None = None,
+    progress: Progress | None = None,
 ) -> Frontier:
-    """Paper property 4: one MEGA-Search, its explored nodes re-scored for every alpha."""
-    np_ = NodePlanner(task, family, planner, oracles=oracles)
-    s = _Search(task, family, np_, timeout)
+    """Paper property 4: one MEGA-Search, its explored nodes re-scored for every alpha
+    (``deadline``, ``timeout``: as for :func:`astar_solve`)."""
+    deadline = deadline if deadline is not None else Deadline.after(timeout)
+    np_ = NodePlanner(task, family, planner, oracles=oracles, deadline=deadline)
+    s = _Search(task, family, np_, progress)
     s.run(0.0)
     return s.frontier()

@@ -16,6 +16,7 @@ search configuration such as the default ``astar(lmcut())``.
 
 from __future__ import annotations
 
+import contextlib
 import importlib.util
 import os
 import re
@@ -128,12 +129,10 @@ def fd_plan(
         try:
             stdout, stderr = proc.communicate(timeout=time_limit)
         except subprocess.TimeoutExpired:
-            os.killpg(proc.pid, signal.SIGKILL)
-            proc.communicate()
+            _kill_group(proc)
             return result("timeout")
-        except BaseException:  # e.g. KeyboardInterrupt: leave no orphaned search behind
-            os.killpg(proc.pid, signal.SIGKILL)
-            proc.communicate()
+        except BaseException:  # an interrupt or the run's time limit: no orphaned search
+            _kill_group(proc)
             raise
         rc = proc.returncode
         if rc == _SOLVED:
@@ -148,3 +147,10 @@ def fd_plan(
         if rc in _TIMEOUT:
             return result("timeout")
         raise PlannerError(f"Fast Downward failed (exit code {rc}): {_error_line(stderr, stdout)}")
+
+
+def _kill_group(proc: subprocess.Popen) -> None:
+    """End FD's whole process group (driver, translator, search) and reap the driver."""
+    with contextlib.suppress(ProcessLookupError):
+        os.killpg(proc.pid, signal.SIGKILL)
+    proc.communicate()

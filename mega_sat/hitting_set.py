@@ -12,6 +12,8 @@ from __future__ import annotations
 import warnings
 from collections.abc import Iterable, Sequence
 
+from mega_sat.deadline import NO_DEADLINE, Deadline, TimeLimitReached
+from mega_sat.errors import PlannerError
 from mega_sat.family import GuardLit
 
 Clause = tuple[GuardLit, ...]
@@ -77,16 +79,28 @@ class RC2HittingSet(HittingSetSolver):
 
 
 class ILPHittingSet(HittingSetSolver):
-    """0/1 ILP solved by CBC through PuLP: ``min sum x_i`` s.t. every clause is hit."""
+    """0/1 ILP solved by CBC through PuLP: ``min sum x_i`` s.t. every clause is hit.
+
+    CBC gets the time left before ``deadline``; a solve it cuts short raises
+    :class:`TimeLimitReached` (a hitting set that is not proven minimum would break the loop's
+    argument, and "no solution found in time" is not "no selection left").
+    """
 
     name = "ilp"
+
+    def __init__(self, n_updates: int, deadline: Deadline | None = None):
+        super().__init__(n_updates)
+        self.deadline = deadline if deadline is not None else NO_DEADLINE
 
     def minimum(self) -> frozenset[int] | None:
         import pulp
 
+        from mega_sat.cbc import solve_cbc
+
         self.calls += 1
         if any(len(c) == 0 for c in self.clauses):
             return None
+        self.deadline.check()
         with warnings.catch_warnings():
             # PuLP 3.x announces API changes for 4.0 on every call; the calls below work in both
             warnings.simplefilter("ignore", DeprecationWarning)
@@ -95,11 +109,14 @@ class ILPHittingSet(HittingSetSolver):
             prob += pulp.lpSum(x) if x else 0
             for c in self.clauses:
                 prob += pulp.lpSum(x[i] if v else 1 - x[i] for i, v in c) >= 1
-            cbc = getattr(pulp, "PULP_CBC_CMD", None) or pulp.COIN_CMD
-            status = prob.solve(cbc(msg=False))
-        if pulp.LpStatus[status] != "Optimal":
+        status = solve_cbc(prob, time_limit=self.deadline.remaining(), gapRel=0)
+        if status == pulp.LpStatusInfeasible:
             return None
-        return frozenset(i for i in range(self.n) if (x[i].value() or 0) > 0.5)
+        if status == pulp.LpStatusOptimal and prob.sol_status == pulp.LpSolutionOptimal:
+            return frozenset(i for i in range(self.n) if (x[i].value() or 0) > 0.5)
+        if self.deadline.expired():
+            raise TimeLimitReached(self.deadline.seconds)
+        raise PlannerError(f"CBC did not solve the hitting-set ILP ({pulp.LpStatus[status]})")
 
     def close(self) -> None:
         pass
@@ -108,7 +125,13 @@ class ILPHittingSet(HittingSetSolver):
 BACKENDS = {"rc2": RC2HittingSet, "ilp": ILPHittingSet}
 
 
-def make_hitting_set(kind: str, n_updates: int) -> HittingSetSolver:
+def make_hitting_set(
+    kind: str, n_updates: int, *, deadline: Deadline | None = None
+) -> HittingSetSolver:
+    """A hitting-set solver; CBC (``ilp``) runs within ``deadline`` (RC2's SAT calls cannot
+    be cut short; the loop checks the deadline around them)."""
+    if kind == "ilp":
+        return ILPHittingSet(n_updates, deadline)
     try:
         return BACKENDS[kind](n_updates)
     except KeyError:

@@ -14,6 +14,7 @@ from __future__ import annotations
 import time
 from collections.abc import Sequence
 
+from mega_sat.deadline import Deadline
 from mega_sat.errors import UnsolvableError, UsageError
 from mega_sat.family import GroundFamily, PlanStep
 from mega_sat.hitting_set import make_hitting_set
@@ -33,10 +34,16 @@ def minimal_explanation(
     hitting_set: str = "rc2",
     oracles=None,
     timeout: float | None = None,
+    deadline: Deadline | None = None,
 ) -> Explanation:
-    """Smallest ``E`` making ``plan`` (default: a robot-optimal plan) optimal in ``human + E``."""
+    """Smallest ``E`` making ``plan`` (default: a robot-optimal plan) optimal in ``human + E``.
+
+    Stops at ``deadline`` (or ``timeout`` seconds from now) with
+    :class:`~mega_sat.deadline.TimeLimitReached`: a candidate that is not the smallest proves
+    nothing, so there is no partial answer."""
     t0 = time.perf_counter()
-    np_ = NodePlanner(task, family, planner, oracles=oracles)
+    deadline = deadline if deadline is not None else Deadline.after(timeout)
+    np_ = NodePlanner(task, family, planner, oracles=oracles, deadline=deadline)
     notes: list[str] = []
     exact = True
     robot_src = task.sources.get("robot_problem", "robot problem")
@@ -55,12 +62,11 @@ def minimal_explanation(
     sim_r = simulate(task.robot, plan)
     if not sim_r.valid:
         raise UsageError(f"the plan is not executable in the robot model: {sim_r.reason}")
-    hs = make_hitting_set(hitting_set, len(task.delta))
+    hs = make_hitting_set(hitting_set, len(task.delta), deadline=deadline)
     calls = {"candidates": 0, "opt_calls": 0, "learned": 0}
     try:
         while True:
-            if timeout is not None and time.perf_counter() - t0 > timeout:
-                raise UsageError(f"no explanation found within the time limit of {timeout}s")
+            deadline.check()
             sel = hs.minimum()
             if sel is None:
                 raise UsageError(

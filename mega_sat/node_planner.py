@@ -15,6 +15,7 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass
 
+from mega_sat.deadline import NO_DEADLINE, Deadline, TimeLimitReached
 from mega_sat.errors import PlannerError, UsageError
 from mega_sat.family import GroundFamily, GroundTask, PlanStep
 from mega_sat.task import TwoModelTask
@@ -38,7 +39,12 @@ class NodePlan:
 
 class NodePlanner:
     """Answers ``optimal(selection)`` for one task with one planner; keeps what it can alive
-    (the SAT oracles, the ground family) across calls."""
+    (the SAT oracles, the ground family) across calls.
+
+    Each call gets ``time_limit`` seconds, cut to what is left before ``deadline``; a call
+    that the deadline cuts short raises :class:`TimeLimitReached` (it proved nothing), one
+    that runs out of its own ``time_limit`` answers ``unknown``.
+    """
 
     def __init__(
         self,
@@ -49,6 +55,7 @@ class NodePlanner:
         time_limit: float | None = None,
         oracles=None,
         solver: str = "cadical195",
+        deadline: Deadline | None = None,
     ):
         if kind not in PLANNERS:
             raise UsageError(f"unknown planner {kind!r} (choose from {', '.join(PLANNERS)})")
@@ -59,6 +66,7 @@ class NodePlanner:
                 raise UsageError("planner 'fd' needs Fast Downward: pip install 'mega-sat[fd]'")
         self.task, self.family, self.kind = task, family, kind
         self.time_limit = time_limit
+        self.deadline = deadline if deadline is not None else NO_DEADLINE
         self._oracles = oracles
         self._solver = solver
         self.calls = 0
@@ -70,17 +78,30 @@ class NodePlanner:
             from mega_sat.oracles import SatOracles
 
             self._oracles = SatOracles(self.family, solver=self._solver)
+            if self.deadline.limited:
+                self._oracles.set_deadline(self.deadline.at)
         return self._oracles
 
     def optimal(self, selection: frozenset[int]) -> NodePlan:
+        from mega_sat.oracles import OracleInterrupted
+
         t0 = time.perf_counter()
         self.calls += 1
+        self.deadline.check()
         try:
-            return self._optimal(frozenset(selection), t0)
+            r = self._optimal(frozenset(selection), t0)
+        except OracleInterrupted:
+            if self.deadline.expired():
+                raise TimeLimitReached(self.deadline.seconds) from None
+            raise
         finally:
             self.time_s += time.perf_counter() - t0
+        if r.status == "unknown" and self.deadline.expired():
+            raise TimeLimitReached(self.deadline.seconds)  # cut short: nothing proven
+        return r
 
     def _optimal(self, sel: frozenset[int], t0: float) -> NodePlan:
+        limit = self.deadline.cap(self.time_limit)
         task = self.family.specialize(sel)
         if task.goal <= task.init:
             # the empty plan is optimal (costs are >= 0); some planners refuse such tasks
@@ -88,7 +109,7 @@ class NodePlanner:
         if self.kind == "builtin":
             from mega_sat.search import solve_optimal
 
-            r = solve_optimal(task, time_limit=self.time_limit)
+            r = solve_optimal(task, time_limit=limit)
             status = r.status if r.status in ("optimal", "unsolvable") else "unknown"
             return NodePlan(
                 status,
@@ -111,9 +132,7 @@ class NodePlanner:
         r = None
         if not any(s.negpre for s in model.schemas.values()):
             try:
-                r = fd_plan(
-                    domain_to_pddl(model), problem_to_pddl(model), time_limit=self.time_limit
-                )
+                r = fd_plan(domain_to_pddl(model), problem_to_pddl(model), time_limit=limit)
             except PlannerError as e:
                 if "exit code 34" not in str(e):
                     raise
@@ -122,7 +141,7 @@ class NodePlanner:
             # conditional effects, which LM-cut rejects: hand it the ground model with those
             # compiled away instead (same plans, same costs)
             dom, prob, names = ground_strips_pddl(task)
-            r = fd_plan(dom, prob, time_limit=self.time_limit)
+            r = fd_plan(dom, prob, time_limit=self.deadline.cap(self.time_limit))
             if r.status == "optimal" and r.plan is not None:
                 plan = tuple(names[s[0]] for s in r.plan)
                 return NodePlan("optimal", plan, r.cost, True, "fd", time.perf_counter() - t0)

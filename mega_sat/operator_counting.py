@@ -74,6 +74,8 @@ def operator_counting_bound(task: GroundTask, *, time_limit: float = 2.0) -> flo
     not prove its optimum within ``time_limit`` seconds."""
     import pulp
 
+    from mega_sat.cbc import solve_cbc
+
     if any(a.negpre for a in task.actions):
         raise ValueError("operator counting needs a task without negative preconditions")
     if task.goal <= task.init:
@@ -98,9 +100,8 @@ def operator_counting_bound(task: GroundTask, *, time_limit: float = 2.0) -> flo
             )
             prob += gain_max >= lower
             prob += gain_min <= upper
-        cbc = getattr(pulp, "PULP_CBC_CMD", None) or pulp.COIN_CMD
         # gapRel=0: "optimal" must mean proven optimal, not within a tolerance
-        status = prob.solve(cbc(msg=False, timeLimit=time_limit, gapRel=0))
+        status = solve_cbc(prob, time_limit=time_limit, gapRel=0)
     if status == pulp.LpStatusInfeasible:
         return math.inf
     if status != pulp.LpStatusOptimal or prob.sol_status != pulp.LpSolutionOptimal:

@@ -277,6 +277,7 @@ def measure(
     """All measurements of one task (inside the worker process).  Calls are appended to
     ``calls_path`` (JSON lines) as they finish; ``info_path`` gets the record so far after
     set-up, so a killed worker still leaves its instance facts and calls behind."""
+    from mega_sat.deadline import TimeLimitReached
     from mega_sat.grounding import ground
     from mega_sat.loading import load_task, resolve_task_dir
     from mega_sat.oracles import OracleInterrupted, SatOracles
@@ -337,7 +338,7 @@ def measure(
                         k: v for k, v in fr.stats.items() if isinstance(v, int | float | str)
                     },
                 )
-            except Exception as e:  # noqa: BLE001 - a robot-OPT time-out surfaces as an error
+            except (Exception, TimeLimitReached) as e:  # noqa: BLE001 - robot OPT cut by the limit
                 timed_out = loop.timed_out or time.perf_counter() >= deadline
                 rec["loop_status"] = "timeout" if timed_out else "error"
                 rec["loop_error"] = f"{type(e).__name__}: {e}"

@@ -24,6 +24,7 @@ from functools import cached_property
 from pysat.solvers import Solver
 
 from mega_sat.abstraction import abstract_task
+from mega_sat.errors import redeliver_sigint
 from mega_sat.family import GroundFamily, GroundTask, GuardLit, PlanStep, holds
 from mega_sat.invariants import EncodingFacts, encoding_facts
 from mega_sat.operator_counting import operator_counting_bound
@@ -365,17 +366,27 @@ class SatOracles:
             for s in (self._opt_solver, self._joint_solver):
                 s.interrupt()
 
+    @property
+    def deadline(self) -> float | None:
+        """The deadline of :meth:`set_deadline` (``None``: none)."""
+        return self._deadline
+
     def set_deadline(self, deadline: float | None) -> None:
         """Interrupt any oracle call still running at ``deadline`` (a ``time.perf_counter()``
         value; ``None`` clears it).  Every solver call started after the deadline raises
-        :class:`OracleInterrupted` until the deadline is cleared or moved."""
+        :class:`OracleInterrupted` until the deadline is cleared or moved.  A deadline beyond
+        what a timer can wait for (``threading.TIMEOUT_MAX``) is no deadline: the timer thread
+        would die of an OverflowError."""
         if self._timer is not None:
             self._timer.cancel()
             self._timer = None
+        delay = None if deadline is None else max(0.0, deadline - time.perf_counter())
+        if delay is not None and not delay < threading.TIMEOUT_MAX / 2:
+            deadline = delay = None
         self._deadline = deadline
         self._clear_interrupt()
-        if deadline is not None:
-            self._timer = threading.Timer(max(0.0, deadline - time.perf_counter()), self.interrupt)
+        if delay is not None:
+            self._timer = threading.Timer(delay, self.interrupt)
             self._timer.daemon = True
             self._timer.start()
 
@@ -522,7 +533,11 @@ class SatOracles:
                 chunk = min(chunk, left)
             solver.conf_budget(chunk)
             t0 = time.perf_counter()
-            r = solver.solve_limited(assumptions=assumptions, expect_interrupt=True)
+            try:
+                r = solver.solve_limited(assumptions=assumptions, expect_interrupt=True)
+            except Exception as e:
+                redeliver_sigint(e)  # pysat's "Caught keyboard interrupt" is a Ctrl-C
+                raise
             self._add_seconds("sat_solve_time_s", t0)
             if r is not None:
                 return r

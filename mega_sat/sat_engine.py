@@ -20,9 +20,11 @@ from __future__ import annotations
 
 import time
 
+from mega_sat.deadline import Deadline, TimeLimitReached
 from mega_sat.family import GroundFamily
 from mega_sat.hitting_set import make_hitting_set
 from mega_sat.joint_search import JointSearcher, search_joint
+from mega_sat.progress import Progress
 from mega_sat.results import Frontier, FrontierPoint, pareto_filter
 from mega_sat.support import exclusion_clause, tight_support, unsolvable_core
 from mega_sat.task import TwoModelTask
@@ -58,6 +60,8 @@ def sat_frontier(
     joint: str | None = None,
     joint_conflict_budget: int | None = None,
     core_search_factor: float = 3.0,
+    deadline: Deadline | None = None,
+    progress: Progress | None = None,
 ) -> Frontier:
     """Compute the Pareto frontier of MEGA solutions with the hitting-set loop.
 
@@ -75,6 +79,12 @@ def sat_frontier(
     OPT goes through :class:`mega_sat.tiered_opt.TieredOpt` (cheap proofs first, ``planner``
     last).  ``core_search_factor``: unsolvable candidate models are generalised by searches on
     abstractions for up to this many times the time OPT took to prove them unsolvable.
+
+    ``deadline`` (or ``timeout`` seconds from now) makes the loop anytime: at the deadline it
+    returns the points proven so far, marked incomplete, with a lower bound on |E| of the next
+    point; before the robot optimum is known it raises :class:`TimeLimitReached` (nothing to
+    report).  ``progress`` receives every proven fact as it is proven, for a caller whose run
+    is stopped from outside (an interrupt, the CLI's backstop timer).
     """
     planner = default_planner("sat", family) if planner is None else planner
     joint = default_joint(family) if joint is None else joint
@@ -86,39 +96,45 @@ def sat_frontier(
     from mega_sat.oracles import OracleInterrupted, SatOracles
 
     t0 = time.perf_counter()
-    deadline = None if timeout is None else t0 + timeout
+    if deadline is None:
+        deadline = Deadline.after(timeout)
+    stop_at = deadline.at  # a time.perf_counter() value, or None
+    progress = progress if progress is not None else Progress()
+    progress.start("sat", tuple(u.name for u in task.delta))
     orc = oracles if oracles is not None else SatOracles(family, solver=solver)
-    if deadline is not None and hasattr(orc, "set_deadline"):
-        orc.set_deadline(deadline)  # interrupts a SAT call still running at the deadline
-    opt_planner = NodePlanner(task, family, planner, oracles=orc)
+    earlier_deadline = getattr(orc, "deadline", None)
+    if stop_at is not None and hasattr(orc, "set_deadline"):
+        orc.set_deadline(stop_at)  # interrupts a SAT call still running at the deadline
+    # the explicit planners get what is left of the time limit (the SAT oracle has the deadline
+    # itself); a planner call cut by the deadline raises TimeLimitReached
+    opt_planner = NodePlanner(task, family, planner, oracles=orc, deadline=deadline)
     tiered = TieredOpt(family, opt_planner)
-    notes: list[str] = []
+    notes = progress.notes
     exact = True
 
     def opt_of(sel):
-        if deadline is not None:
-            # the explicit planners get what is left of the time limit (the SAT oracle has the
-            # deadline itself); one that runs out answers "unknown" and the SAT fallback below
-            # is then interrupted at once
-            opt_planner.time_limit = max(deadline - time.perf_counter(), 0.001)
         r = tiered.optimal(sel)
         if r.status == "unknown" and planner != "sat":
-            r = NodePlanner(task, family, "sat", oracles=orc).optimal(sel)
+            r = NodePlanner(task, family, "sat", oracles=orc, deadline=deadline).optimal(sel)
         return r
 
     try:
         robot = opt_of(family.robot_selection)
-    except OracleInterrupted:
-        orc.set_deadline(None)
-        raise _robot_timeout(task, timeout) from None
+    except (OracleInterrupted, TimeLimitReached) as e:
+        if hasattr(orc, "set_deadline"):
+            orc.set_deadline(earlier_deadline)
+        if isinstance(e, TimeLimitReached) or not deadline.expired():
+            raise
+        raise TimeLimitReached(deadline.seconds) from None  # nothing proven to report
     _require_robot_plan(task, robot)
     if not robot.exact:
         exact = False
         notes.append(f"robot optimum not proven: {robot.reason}")
     c_robot = robot.cost
     robot_lb = c_robot if robot.exact else None  # a proven lower bound on any robot plan
+    progress.robot_optimal_cost = c_robot
 
-    hs = make_hitting_set(hitting_set, len(task.delta))
+    hs = make_hitting_set(hitting_set, len(task.delta), deadline=deadline)
     opt_cache: dict[frozenset[int], object] = {}
     points: list[FrontierPoint] = []
     bound: int | None = None  # K: robot cost must be <= K (None: unbounded)
@@ -143,31 +159,49 @@ def sat_frontier(
 
     def time_out():
         nonlocal lower_bound, complete
-        nxt = hs.minimum()
-        lower_bound = None if nxt is None else len(nxt)
-        complete = nxt is None
+        try:
+            nxt = hs.minimum()
+        except TimeLimitReached as e:  # CBC (--hitting-set ilp) has no time left either
+            if e.forced:
+                raise
+            lower_bound = progress.lower_bound or 0
+        else:
+            lower_bound = None if nxt is None else len(nxt)
+            complete = nxt is None
         if not complete:
             notes.append(
-                f"time limit {timeout}s reached: frontier incomplete; any "
+                f"time limit {deadline.seconds}s reached: frontier incomplete; any "
                 f"solution cheaper than the last point needs |E| >= "
                 f"{lower_bound}"
             )
 
+    progress.stats = stats
     try:
         while True:
-            if deadline is not None and time.perf_counter() > deadline:
+            if deadline.expired():
                 time_out()
                 break
-            sel = hs.minimum()
+            try:
+                sel = hs.minimum()
+            except TimeLimitReached as e:
+                if e.forced:
+                    raise
+                time_out()
+                break
             if sel is None:
                 complete = True
                 break
+            # every selection smaller than sel is excluded by clauses that hold for any
+            # robot-cost bound <= K, so a solution cheaper than the last point needs |sel|
+            progress.lower_bound = len(sel)
             stats["iterations"] += 1
             opt = opt_cache.get(sel)
             if opt is None:
                 try:
                     opt = opt_of(sel)
-                except OracleInterrupted:
+                except (OracleInterrupted, TimeLimitReached) as e:
+                    if getattr(e, "forced", False):
+                        raise  # stopped between any two bytecodes: the caller reports progress
                     time_out()
                     break
                 opt_cache[sel] = opt
@@ -183,7 +217,7 @@ def sat_frontier(
                         family,
                         sel,
                         search_seconds=max(0.05, core_search_factor * opt.time_s),
-                        stop_at=deadline,
+                        stop_at=stop_at,
                     )
                 else:
                     exact = False
@@ -226,12 +260,14 @@ def sat_frontier(
                         bound,
                         opt.cost,
                         keep=frozenset(i for i, _ in ts),
-                        deadline=deadline,
+                        deadline=stop_at,
                     )
                     if res is None:
                         raise OracleInterrupted
                     budget.update(t_sat, time.perf_counter() - t_search)
-            except OracleInterrupted:
+            except (OracleInterrupted, TimeLimitReached) as e:
+                if getattr(e, "forced", False):
+                    raise
                 time_out()
                 break
             stats["joint_calls"] += 1
@@ -244,6 +280,7 @@ def sat_frontier(
                         tuple(task.names(sel)), sel, tuple(res.plan), res.robot_cost, res.human_cost
                     )
                 )
+                progress.points.append(points[-1])
                 if res.robot_cost <= c_robot:
                     complete = True
                     break
@@ -253,8 +290,8 @@ def sat_frontier(
             _learn(hs, exclusion_clause(sel, on), stats)
     finally:
         hs.close()
-        if deadline is not None and hasattr(orc, "set_deadline"):
-            orc.set_deadline(None)
+        if stop_at is not None and hasattr(orc, "set_deadline"):
+            orc.set_deadline(earlier_deadline)
     pts = pareto_filter(points)
     return Frontier(
         engine="sat",
@@ -317,15 +354,6 @@ def _learn(hs, clause, stats) -> None:
     hs.add(clause)
     stats["learned"] += 1
     stats["learned_literals"] += len(clause)
-
-
-def _robot_timeout(task: TwoModelTask, timeout):
-    from mega_sat.errors import PlannerError
-
-    src = task.sources.get("robot_problem", "robot problem")
-    return PlannerError(
-        f"time limit {timeout}s reached before the robot optimum was found", path=src
-    )
 
 
 def _require_robot_plan(task: TwoModelTask, robot) -> None:

@@ -12,6 +12,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+from mega_sat.deadline import Deadline
 from mega_sat.family import GroundFamily, PlanStep
 from mega_sat.simulate import simulate
 from mega_sat.task import TwoModelTask
@@ -69,10 +70,13 @@ def verify_pair(
     use_val: bool = True,
     checker: str | None = None,
     oracles=None,
+    deadline: Deadline | None = None,
 ) -> VerifyReport:
     """Check one answer; ``robot_cost``/``human_cost``, when given, must match the simulation.
 
-    ``oracles``: live SAT oracles of this task, reused when the checker is ``sat``.
+    ``oracles``: live SAT oracles of this task, reused when the checker is ``sat``.  The
+    checker's planner stops at ``deadline`` with :class:`~mega_sat.deadline.TimeLimitReached`
+    (an optimum not re-derived is neither a pass nor a failure).
     """
     from mega_sat.node_planner import NodePlanner
 
@@ -112,7 +116,9 @@ def verify_pair(
             )
         )
     kind = checker or checker_for(producer)
-    opt = NodePlanner(task, family, kind, oracles=oracles).optimal(frozenset(selection))
+    opt = NodePlanner(task, family, kind, oracles=oracles, deadline=deadline).optimal(
+        frozenset(selection)
+    )
     if opt.status == "optimal":
         good = sim_h.valid and sim_h.cost == opt.cost
         detail = f"optimum of human + E by {kind}: {opt.cost}; plan: {sim_h.cost}"
