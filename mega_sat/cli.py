@@ -1,44 +1,313 @@
 """``mega-sat`` command line.
 
 Every command that reads a model family takes the four PDDL files as ``--robot-domain
---robot-problem --human-domain [--human-problem]`` or ``--task DIR`` (see ``docs/cli.md``).
-User errors print one ``error: ...`` line on stderr and exit non-zero (2 bad input, 3 an
-unsolvable problem, 4 a planner failure); a traceback means a bug in mega-sat.
+--robot-problem --human-domain [--human-problem]`` or ``--task DIR`` (see ``docs/cli.md``),
+and ``--timeout``, one time limit for the whole run.  Exit codes are one table
+(:data:`mega_sat.errors.EXIT_CODES`): user errors print one ``error: ...`` line on stderr; with
+``--json`` stdout always carries exactly one JSON object, errors included; a traceback means a
+bug in mega-sat.
+
+A run is stopped by its time limit (cooperatively by every step, and by a SIGALRM backstop
+shortly after the deadline, for steps without their own checks) or by SIGINT/SIGTERM (a handler
+raising :class:`~mega_sat.errors.Interrupted`).  Either way what was proven so far is printed,
+marked incomplete; child processes end with the exceptions that unwind through them.
 """
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import json
+import os
+import signal
 import sys
+import threading
 import time
 from pathlib import Path
 
 import click
 
-from mega_sat.errors import MegaSatError, UsageError
+from mega_sat.deadline import NO_DEADLINE, Deadline, TimeLimitReached, parse_timeout, slack
+from mega_sat.errors import (
+    EXIT_FAILED,
+    EXIT_OK,
+    EXIT_OUTPUT,
+    EXIT_SIGINT,
+    EXIT_TIMEOUT,
+    Interrupted,
+    MegaSatError,
+    StdoutError,
+    UsageError,
+    is_pysat_interrupt,
+    restore_sigint,
+)
 
 ENGINE = click.Choice(["sat", "astar"])
 PLANNER = click.Choice(["builtin", "sat", "fd"])
 HITTING = click.Choice(["rc2", "ilp"])
 
+BACKSTOP_SHARE = 0.1
+"""The backstop timer fires this share of the allowed overrun (max(1 s, 5 %) of the limit)
+after the deadline, leaving the rest for a C call still running when it fires (a sort, a
+conversion of a large array, a SAT conflict chunk), unwinding and printing what was proven."""
 
-def _friendly(fn):
-    """Turn MegaSatError into one line + exit code; keep tracebacks for real bugs."""
+_as_program = False  # set by _Main.main when run as the ``mega-sat`` program (not in tests)
+
+
+def _process_age() -> float:
+    """Seconds since this process started (Linux ``/proc``; 0 elsewhere), so that a time limit
+    also covers the interpreter's start-up and imports."""
+    try:
+        with open("/proc/self/stat") as f:
+            start_ticks = int(f.read().rsplit(")", 1)[1].split()[19])
+        with open("/proc/uptime") as f:
+            uptime = float(f.read().split()[0])
+        return max(0.0, uptime - start_ticks / os.sysconf("SC_CLK_TCK"))
+    except (OSError, ValueError, IndexError):
+        return 0.0
+
+
+class _Run:
+    """One command's run: its deadline, the handlers that stop it (SIGINT/SIGTERM, and the
+    SIGALRM backstop of the deadline), its stdout, and how it ends.
+
+    The handlers raise at most once: after the first stop (and once the answer is being
+    printed) later signals are ignored, so the report of what was proven comes out whole.
+    """
+
+    def __init__(self, as_json: bool):
+        self.as_json = as_json
+        self.deadline: Deadline = NO_DEADLINE
+        self.stopped: BaseException | None = None  # a stop after which a partial answer follows
+        self.printed = False
+        self._quiet = False
+        self._saved: dict[int, object] = {}
+
+    # ------------------------------------------------------------------ stops
+    def _on_signal(self, signum, frame) -> None:
+        if not self._quiet:
+            self.quiet()
+            raise Interrupted(signum)
+
+    def _on_alarm(self, signum, frame) -> None:
+        if self._quiet:
+            return
+        if not self.deadline.expired():  # early (another clock): wait for the rest
+            signal.setitimer(signal.ITIMER_REAL, max(self.deadline.remaining() or 0.0, 0.001))
+            return
+        self.quiet()
+        raise TimeLimitReached(self.deadline.seconds, forced=True)
+
+    def __enter__(self) -> _Run:
+        if threading.current_thread() is not threading.main_thread():
+            return self
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            previous = signal.getsignal(sig)
+            if previous is signal.SIG_IGN:  # e.g. a background job of a shell: stay immune
+                continue
+            self._saved[sig] = previous
+            signal.signal(sig, self._on_signal)
+        left = self.deadline.remaining()
+        if left is not None:
+            self._saved[signal.SIGALRM] = signal.signal(signal.SIGALRM, self._on_alarm)
+            backstop = BACKSTOP_SHARE * slack(self.deadline.seconds or 0.0)
+            signal.setitimer(signal.ITIMER_REAL, max(left + backstop, 0.001))
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.quiet()
+        for sig, handler in self._saved.items():
+            signal.signal(sig, handler)
+        self._saved.clear()
+
+    def quiet(self) -> None:
+        """No more stops from here on (the run is reporting)."""
+        self._quiet = True
+        if signal.SIGALRM in self._saved:
+            signal.setitimer(signal.ITIMER_REAL, 0)
+
+    @staticmethod
+    def reason(stop: BaseException) -> str:
+        """Why a partial answer is partial, e.g. "time limit 5.0s reached: frontier
+        incomplete" (the words of the engine's own time-limit note)."""
+        return f"{stop}: frontier incomplete"
+
+    def compute(self, work, partial=None):
+        """``work()``; if a time limit or an interrupt stops it, ``partial(reason)`` (what was
+        proven), remembered in :attr:`stopped`; with no partial answer the stop goes on up."""
+        try:
+            return work()
+        except Exception as e:
+            if not is_pysat_interrupt(e):  # a Ctrl-C that python-sat caught (e.g. in RC2)
+                raise
+            restore_sigint()
+            stop: BaseException = Interrupted(signal.SIGINT)
+        except (TimeLimitReached, Interrupted) as e:
+            stop = e
+        self.quiet()
+        got = None if partial is None else partial(self.reason(stop))
+        if got is None:
+            raise stop
+        self.stopped = stop
+        return got
+
+    def exit_code(self, code: int = EXIT_OK) -> int:
+        """``code``, or the interrupt's code when a partial answer followed an interrupt."""
+        if isinstance(self.stopped, Interrupted):
+            return self.stopped.exit_code
+        return code
+
+    # ----------------------------------------------------------------- output
+    def echo(self, text: str = "", nl: bool = True, *, final: bool = True) -> None:
+        """Write to stdout; a write that fails (full disk, closed pipe) is a :class:`StdoutError`.
+        Writing the answer (``final``) ends the stops, so it comes out whole."""
+        if final:
+            self.quiet()
+        try:
+            click.echo(text, nl=nl)
+        except OSError as e:
+            _silence_stdout()
+            raise StdoutError(f"cannot write to standard output: {e.strerror or e}") from None
+        self.printed = True
+
+    def echo_json(self, obj: dict) -> None:
+        self.echo(json.dumps(obj, indent=2))
+
+    def fail(self, code: int, message: str, status: str | None = None) -> int:
+        """One ``error:`` line on stderr and, with ``--json`` and nothing printed yet, one JSON
+        object on stdout; returns the exit code."""
+        self.quiet()
+        text = message if message.startswith("error: ") else f"error: {message}"
+        click.echo(text, err=True)
+        if self.as_json and not self.printed:
+            obj: dict = {}
+            if status is not None:
+                obj = {"complete": False, "status": status}
+            obj.update(error=text.removeprefix("error: "), exit_code=code)
+            try:
+                self.echo_json(obj)
+            except StdoutError as e:
+                click.echo(str(e), err=True)
+                return EXIT_OUTPUT
+        return code
+
+
+def _silence_stdout() -> None:
+    """Point fd 1 at /dev/null after a failed write, so the interpreter's final flush of the
+    unwritten text does not print a second error."""
+    with contextlib.suppress(OSError, ValueError, AttributeError):
+        fd = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(fd, sys.stdout.fileno())
+        os.close(fd)
+
+
+def _exit_now(code: int) -> None:
+    """End a stopped run at once: what was proven is printed, children are gone, and tearing
+    down a large grounding object by object can take longer than the time limit allows."""
+    for stream in (sys.stdout, sys.stderr):
+        with contextlib.suppress(OSError, ValueError, AttributeError):
+            stream.flush()
+    os._exit(code)
+
+
+def _from_click_echo(e: OSError) -> bool:
+    """Whether ``e`` was raised by a write of ``click.echo`` (the commands' own writes go
+    through :meth:`_Run.echo`, which reports them itself)."""
+    import traceback
+
+    frames = traceback.extract_tb(e.__traceback__)
+    return bool(frames) and frames[-1].name == "echo" and "click" in frames[-1].filename
+
+
+def _command(fn):
+    """Run a command inside a :class:`_Run`: ``--timeout`` becomes its deadline, stops and
+    :class:`MegaSatError` become one line and the exit code of :data:`EXIT_CODES`, and the
+    command gets the run as ``run`` (it returns its exit code)."""
 
     @functools.wraps(fn)
     def wrapper(*args, **kwargs):
+        run = _Run(bool(kwargs.get("as_json")))
+        timeout = kwargs.pop("timeout", None)
+        code = EXIT_OK
         try:
-            return fn(*args, **kwargs)
-        except MegaSatError as e:
-            click.echo(str(e), err=True)
-            sys.exit(e.exit_code)
+            if sys.stdout is None:
+                raise StdoutError("cannot write to standard output: it is closed")
+            run.deadline = Deadline.after(
+                parse_timeout(timeout, name="--timeout"),
+                elapsed=_process_age() if _as_program else 0.0,
+            )
+            with run:
+                try:
+                    run.deadline.check()
+                    code = fn(*args, run=run, **kwargs) or EXIT_OK
+                except MegaSatError as e:
+                    code = run.fail(e.exit_code, str(e))
+                except TimeLimitReached:
+                    code = run.fail(
+                        EXIT_TIMEOUT,
+                        f"{run.deadline.describe()} reached before anything could be reported",
+                        "timeout",
+                    )
+                except Interrupted as e:
+                    code = run.fail(
+                        e.exit_code, f"{e} before anything could be reported", "interrupted"
+                    )
+                except Exception as e:
+                    if not is_pysat_interrupt(e):
+                        raise
+                    restore_sigint()
+                    code = run.fail(
+                        EXIT_SIGINT,
+                        "interrupted by SIGINT before anything could be reported",
+                        "interrupted",
+                    )
+        except MegaSatError as e:  # before the run started: bad --timeout, closed stdout
+            code = run.fail(e.exit_code, str(e))
+        if _as_program and (run.stopped is not None or run.deadline.expired() or code > 100):
+            _exit_now(code)
+        sys.exit(code)
 
     return wrapper
 
 
+class _Main(click.Group):
+    """The ``mega-sat`` group: click's usage errors follow the same rules as the commands'
+    errors (with ``--json``, one JSON object on stdout too), and an interrupt before a
+    command's own handlers are in place exits 130 without a traceback."""
+
+    def main(self, args=None, prog_name=None, complete_var=None, standalone_mode=True, **extra):
+        global _as_program
+        _as_program = args is None
+        argv = sys.argv[1:] if args is None else [str(a) for a in args]
+        if not standalone_mode:
+            return super().main(argv, prog_name, complete_var, False, **extra)
+        run = _Run("--json" in argv)
+        if sys.stdout is None:  # started with fd 1 closed: every answer would vanish
+            sys.exit(run.fail(EXIT_OUTPUT, "cannot write to standard output: it is closed"))
+        try:
+            rv = super().main(argv, prog_name, complete_var, False, **extra)
+        except click.ClickException as e:
+            message = e.format_message()
+            ctx = getattr(e, "ctx", None)
+            if isinstance(e, click.UsageError) and ctx is not None:
+                message += f" (see '{ctx.command_path} --help')"
+            sys.exit(run.fail(e.exit_code, message))
+        except OSError as e:
+            if not _from_click_echo(e):
+                raise
+            # click's own output (--help, --version) to a full disk or a closed pipe
+            _silence_stdout()
+            sys.exit(run.fail(EXIT_OUTPUT, f"cannot write to standard output: {e.strerror or e}"))
+        except click.Abort as e:
+            if isinstance(e.__cause__, KeyboardInterrupt):
+                sys.exit(run.fail(EXIT_SIGINT, "interrupted by SIGINT", "interrupted"))
+            click.echo("Aborted!", err=True)
+            sys.exit(EXIT_FAILED)
+        sys.exit(rv if isinstance(rv, int) else EXIT_OK)
+
+
 def task_options(fn):
-    """The four model files, or ``--task DIR``."""
+    """The four model files, or ``--task DIR``, and the run's ``--timeout``."""
     opts = [
         click.option(
             "--task",
@@ -58,6 +327,13 @@ def task_options(fn):
             help="Defaults to the robot problem.",
         ),
         click.option("-v", "--verbose", is_flag=True, help="Report grounding sizes and stats."),
+        click.option(
+            "--timeout",
+            type=str,
+            default=None,
+            metavar="SECONDS",
+            help="Time limit for the whole run, then report what is proven (inf: none).",
+        ),
     ]
     for o in reversed(opts):
         fn = o(fn)
@@ -108,7 +384,7 @@ def _verbose_family(solver, verbose: bool) -> None:
         click.echo(f"; grounded {fam.describe()} in {time.perf_counter() - t0:.3f}s", err=True)
 
 
-@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+@click.group(cls=_Main, context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(package_name="mega-sat")
 def main():
     """mega-sat: exact MEGA (explicability vs. explanations) with SAT and ILP."""
@@ -138,22 +414,19 @@ def _show_warnings_as_lines() -> None:
 @main.command()
 @task_options
 @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
-@_friendly
-def diff(as_json, verbose, **kw):
+@_command
+def diff(run, as_json, verbose, **kw):
     """Print the model difference Delta, one update per line."""
     task = _task_from(kw)
+    run.deadline.check()
     if as_json:
-        click.echo(
-            json.dumps(
-                {"model_difference": [u.name for u in task.delta], "size": len(task.delta)},
-                indent=2,
-            )
-        )
-        return
+        run.echo_json({"model_difference": [u.name for u in task.delta], "size": len(task.delta)})
+        return EXIT_OK
     for u in task.delta:
-        click.echo(u.name)
+        run.echo(u.name)
     if verbose:
         click.echo(f"; |Delta| = {len(task.delta)}", err=True)
+    return EXIT_OK
 
 
 def _read_explanation(task, path):
@@ -182,15 +455,17 @@ def _read_explanation(task, path):
     help="Folder for domain.pddl and problem.pddl of human + E.",
 )
 @click.option("--force", is_flag=True, help="Overwrite existing files.")
-@_friendly
-def apply(explanation, out_dir, force, verbose, **kw):
+@_command
+def apply(run, explanation, out_dir, force, verbose, **kw):
     """Write the updated human model human + E as PDDL."""
     from mega_sat.pddl_writer import write_model
 
     task = _task_from(kw)
     sel = _read_explanation(task, explanation)
+    run.deadline.check()
     d, p = write_model(task.updated_model(sel), out_dir, overwrite=force)
-    click.echo(f"wrote {d}\nwrote {p}")
+    run.echo(f"wrote {d}\nwrote {p}")
+    return EXIT_OK
 
 
 # --------------------------------------------------------------------------- plan / validate
@@ -218,6 +493,16 @@ def _single_or_family(domain, problem, kw, model, explanation):
     return task, _read_explanation(task, explanation)
 
 
+def _ground(task, run):
+    """The ground family of ``task``, within the run's time limit."""
+    from mega_sat.grounding import ground
+
+    run.deadline.check()
+    fam = ground(task, deadline=run.deadline if run.deadline.limited else None)
+    run.deadline.check()
+    return fam
+
+
 @main.command()
 @click.option("--domain", type=click.Path(), default=None)
 @click.option("--problem", type=click.Path(), default=None)
@@ -238,19 +523,18 @@ def _single_or_family(domain, problem, kw, model, explanation):
 @click.option("--out", "out", type=click.Path(), default=None, help="Write the plan file.")
 @click.option("--force", is_flag=True, help="Overwrite --out.")
 @click.option("--json", "as_json", is_flag=True)
-@_friendly
-def plan(domain, problem, model, explanation, planner, out, force, as_json, verbose, **kw):
+@_command
+def plan(run, domain, problem, model, explanation, planner, out, force, as_json, verbose, **kw):
     """Optimal plan of one model (IPC plan format)."""
     from mega_sat.errors import PlannerError, UnsolvableError
-    from mega_sat.grounding import ground
     from mega_sat.node_planner import NodePlanner
     from mega_sat.planio import format_plan, write_plan
 
     task, sel = _single_or_family(domain, problem, kw, model, explanation)
-    fam = ground(task)
+    fam = _ground(task, run)
     if verbose:
         click.echo(f"; ground task: {fam.describe()}", err=True)
-    r = NodePlanner(task, fam, planner).optimal(sel)
+    r = NodePlanner(task, fam, planner, deadline=run.deadline).optimal(sel)
     where = problem or (
         task.sources.get("robot_problem")
         if sel == task.all_updates
@@ -263,24 +547,22 @@ def plan(domain, problem, model, explanation, planner, out, force, as_json, verb
     if as_json:
         from mega_sat.family import step_str
 
-        click.echo(
-            json.dumps(
-                {
-                    "plan": [step_str(s) for s in r.plan],
-                    "cost": r.cost,
-                    "planner": planner,
-                    "exact": r.exact,
-                    "time_s": round(r.time_s, 6),
-                },
-                indent=2,
-            )
+        run.echo_json(
+            {
+                "plan": [step_str(s) for s in r.plan],
+                "cost": r.cost,
+                "planner": planner,
+                "exact": r.exact,
+                "time_s": round(r.time_s, 6),
+            }
         )
     else:
-        click.echo(format_plan(r.plan, r.cost), nl=False)
+        run.echo(format_plan(r.plan, r.cost), nl=False)
         if not r.exact:
-            click.echo(f"; not proven optimal: {r.reason}")
+            run.echo(f"; not proven optimal: {r.reason}")
     if out:
         write_plan(out, r.plan, r.cost, overwrite=force)
+    return EXIT_OK
 
 
 @main.command()
@@ -291,8 +573,8 @@ def plan(domain, problem, model, explanation, planner, out, force, as_json, verb
 @click.option("--model", type=click.Choice(["robot", "human"]), default="robot")
 @click.option("--explanation", type=click.Path(), default=None)
 @click.option("--json", "as_json", is_flag=True)
-@_friendly
-def validate(plan_file, domain, problem, model, explanation, as_json, verbose, **kw):
+@_command
+def validate(run, plan_file, domain, problem, model, explanation, as_json, verbose, **kw):
     """Simulate a plan file in one model: its cost, or the first failing step."""
     from mega_sat.planio import read_plan
     from mega_sat.simulate import simulate
@@ -300,24 +582,22 @@ def validate(plan_file, domain, problem, model, explanation, as_json, verbose, *
     task, sel = _single_or_family(domain, problem, kw, model, explanation)
     steps = read_plan(plan_file)
     m = task.robot if sel == task.all_updates else task.updated_model(sel)
+    run.deadline.check()
     sim = simulate(m, steps)
     if as_json:
-        click.echo(
-            json.dumps(
-                {
-                    "valid": sim.valid,
-                    "cost": sim.cost,
-                    "failed_step": sim.failed_step,
-                    "reason": sim.reason,
-                },
-                indent=2,
-            )
+        run.echo_json(
+            {
+                "valid": sim.valid,
+                "cost": sim.cost,
+                "failed_step": sim.failed_step,
+                "reason": sim.reason,
+            }
         )
     elif sim.valid:
-        click.echo(f"valid: {len(steps)} steps, cost {sim.cost}")
+        run.echo(f"valid: {len(steps)} steps, cost {sim.cost}")
     else:
-        click.echo(f"invalid: {sim.reason}")
-    sys.exit(0 if sim.valid else 1)
+        run.echo(f"invalid: {sim.reason}")
+    return EXIT_OK if sim.valid else EXIT_FAILED
 
 
 # --------------------------------------------------------------------------- encode
@@ -341,15 +621,14 @@ def validate(plan_file, domain, problem, model, explanation, as_json, verbose, *
 )
 @click.option("--out", "out_dir", type=click.Path(), required=True)
 @click.option("--force", is_flag=True)
-@_friendly
-def encode(kind, explanation, robot_bound, human_bound, out_dir, force, verbose, **kw):
+@_command
+def encode(run, kind, explanation, robot_bound, human_bound, out_dir, force, verbose, **kw):
     """Export the OPT or JOINT formula as DIMACS CNF/WCNF with a variable map."""
     from mega_sat.cnf_export import export
-    from mega_sat.grounding import ground
 
     task = _task_from(kw)
     sel = _read_explanation(task, explanation)
-    fam = ground(task)
+    fam = _ground(task, run)
     out = Path(out_dir)
     if out.exists() and any(out.iterdir()) and not force:
         raise UsageError("output folder is not empty (use --force to overwrite)", path=out_dir)
@@ -369,7 +648,8 @@ def encode(kind, explanation, robot_bound, human_bound, out_dir, force, verbose,
     except ValueError as e:
         raise UsageError(str(e)) from None
     for name, path in files.items():
-        click.echo(f"{name}: {path}")
+        run.echo(f"{name}: {path}")
+    return EXIT_OK
 
 
 # --------------------------------------------------------------------------- MEGA
@@ -395,12 +675,6 @@ def engine_options(fn):
             "portfolio if some action costs 0]",
         ),
         click.option("--hitting-set", type=HITTING, default="rc2", show_default=True),
-        click.option(
-            "--timeout",
-            type=float,
-            default=None,
-            help="Seconds; the sat engine then returns what it has proven so far.",
-        ),
         click.option("--json", "as_json", is_flag=True, help="Print one JSON object."),
         click.option(
             "--verify", "do_verify", is_flag=True, help="Check every returned pair independently."
@@ -418,12 +692,12 @@ def engine_options(fn):
     return fn
 
 
-def _solver(kw):
+def _solver(kw, run):
     """The task and the engine options of ``solve`` / ``frontier`` as one MegaSolver."""
     from mega_sat.api import MegaSolver
 
-    engine_kw = {k: kw.pop(k) for k in ("engine", "planner", "joint", "hitting_set", "timeout")}
-    return MegaSolver(_task_from(kw), **engine_kw)
+    engine_kw = {k: kw.pop(k) for k in ("engine", "planner", "joint", "hitting_set")}
+    return MegaSolver(_task_from(kw), deadline=run.deadline, **engine_kw)
 
 
 def _point_text(p, c_robot, alpha=None, objective=None) -> list[str]:
@@ -474,27 +748,63 @@ def _write_models(solver, points, out_dir, force):
     return written
 
 
-def _check_and_write(solver, points, do_verify, write_model, force):
-    """``--verify`` and ``--write-model`` for the returned pairs; returns the reports."""
-    reports = [solver.verify(p) for p in points] if do_verify else []
+def _check_and_write(run, solver, points, do_verify, write_model, force):
+    """``--verify`` and ``--write-model`` for the returned pairs: ``(reports, notes)``.
+
+    After a stop nothing more is computed or written (a note says so); a stop during the
+    checks keeps the reports made so far and makes the run's answer incomplete.
+    """
+    notes: list[str] = []
+    reports = []
+    if run.stopped is not None:
+        skipped = [o for o, on in (("--verify", do_verify), ("--write-model", write_model)) if on]
+        if skipped:
+            notes.append(f"{' and '.join(skipped)} skipped: the run was stopped")
+        return reports, notes
+    if do_verify:
+        try:
+            for p in points:
+                reports.append(solver.verify(p))
+        except (TimeLimitReached, Interrupted) as stop:
+            run.quiet()
+            run.stopped = stop
+            notes.append(
+                f"{stop} during --verify: {len(reports)} of {len(points)} point(s) checked"
+                + ("; --write-model skipped" if write_model else "")
+            )
+            return reports, notes
     if write_model:
         for path in _write_models(solver, points, write_model, force):
             click.echo(f"; wrote {path}", err=True)
-    return reports
+    return reports, notes
 
 
-def _finish(fr, reports, verbose) -> None:
-    """Stats on stderr with ``-v``; exit 1 when a verification failed."""
+def _with_notes(d: dict, notes: list[str]) -> dict:
+    """A result's JSON object with the run's own notes (a stop after the answer was found)."""
+    if notes:
+        d["complete"] = False
+        d["notes"] = [*d.get("notes", []), *notes]
+    return d
+
+
+def _finish(run, fr, reports, verbose) -> int:
+    """Stats on stderr with ``-v``; the exit code (1 when a verification failed)."""
     if verbose:
         click.echo(f"; stats {json.dumps(fr.stats)}", err=True)
     if reports and not all(r.ok for r in reports):
-        sys.exit(1)
+        return run.exit_code(EXIT_FAILED)
+    return run.exit_code(EXIT_OK)
 
 
-def _status_line(fr) -> str:
-    if fr.exact:
+def _status_line(fr, notes=()) -> str:
+    if fr.exact and not notes:
         return "exact: yes (minimal explanations and optimal costs proven)"
-    return "exact: no (" + "; ".join(fr.notes) + ")"
+    return "exact: no (" + "; ".join([*fr.notes, *notes]) + ")"
+
+
+def _stop_message(run) -> None:
+    if isinstance(run.stopped, Interrupted):
+        click.echo(f"{run.stopped}: the answer printed is what was proven so far", err=True)
 
 
 @main.command()
@@ -506,75 +816,88 @@ def _status_line(fr) -> str:
     help="Weight of the robot's extra cost against explanation length (>= 0).",
 )
 @engine_options
-@_friendly
-def solve(alpha, as_json, do_verify, write_model, force, verbose, **kw):
+@_command
+def solve(run, alpha, as_json, do_verify, write_model, force, verbose, **kw):
     """MEGA: the plan and explanation for one alpha."""
+    from mega_sat.api import _check_alpha
+
     try:
         a = float(alpha)
     except ValueError:
         raise UsageError(f"--alpha must be a number >= 0, got '{alpha}'") from None
-    s = _solver(kw)
-    _verbose_family(s, verbose)
+    _check_alpha(a)
+    s = _solver(kw, run)
     t0 = time.perf_counter()
-    sol = s.solve(a)
+
+    def work():
+        _verbose_family(s, verbose)
+        return s.solve(a)
+
+    sol = run.compute(work, lambda reason: s.partial_solution(a, reason))
     elapsed = time.perf_counter() - t0
-    reports = _check_and_write(s, [sol.chosen], do_verify, write_model, force)
+    reports, notes = _check_and_write(run, s, [sol.chosen], do_verify, write_model, force)
     fr = sol.frontier
     if as_json:
         d = sol.to_dict()
         d["time_s"] = round(elapsed, 6)
-        if do_verify:
+        if do_verify and reports:
             d["verify"] = [r.to_dict() for r in reports]
-        click.echo(json.dumps(d, indent=2))
+        run.echo_json(_with_notes(d, notes))
     else:
         for line in _point_text(sol.chosen, fr.robot_optimal_cost, a, sol.objective):
-            click.echo(line)
-        click.echo(
+            run.echo(line)
+        run.echo(
             f"robot optimal cost {fr.robot_optimal_cost}; |Delta| = "
             f"{len(fr.model_difference)}; engine {fr.engine}; time {elapsed:.3f}s"
         )
-        click.echo(_status_line(fr))
+        run.echo(_status_line(fr, notes))
         for rep in reports:
-            click.echo("verify: " + ("passed" if rep.ok else "FAILED"))
+            run.echo("verify: " + ("passed" if rep.ok else "FAILED"))
             for line in rep.lines():
-                click.echo("  " + line)
-    _finish(fr, reports, verbose)
+                run.echo("  " + line)
+    _stop_message(run)
+    return _finish(run, fr, reports, verbose)
 
 
 @main.command()
 @task_options
 @engine_options
-@_friendly
-def frontier(as_json, do_verify, write_model, force, verbose, **kw):
+@_command
+def frontier(run, as_json, do_verify, write_model, force, verbose, **kw):
     """All Pareto-optimal (|E|, robot cost) pairs: one run answers every alpha."""
-    s = _solver(kw)
-    _verbose_family(s, verbose)
-    fr = s.frontier()
-    reports = _check_and_write(s, fr.points, do_verify, write_model, force)
+    s = _solver(kw, run)
+
+    def work():
+        _verbose_family(s, verbose)
+        return s.frontier()
+
+    fr = run.compute(work, s.partial_frontier)
+    reports, notes = _check_and_write(run, s, fr.points, do_verify, write_model, force)
     if as_json:
         d = fr.to_dict()
-        if do_verify:
+        if do_verify and reports:
             d["verify"] = [r.to_dict() for r in reports]
-        click.echo(json.dumps(d, indent=2))
+        run.echo_json(_with_notes(d, notes))
     else:
-        click.echo(
+        run.echo(
             f"robot optimal cost {fr.robot_optimal_cost}; |Delta| = "
             f"{len(fr.model_difference)}; {len(fr.points)} frontier point(s); "
             f"engine {fr.engine}; time {fr.time_s:.3f}s"
         )
         for k, p in enumerate(fr.points):
-            click.echo(f"\n[{k}] |E| = {p.size}, robot cost {p.robot_cost}")
+            run.echo(f"\n[{k}] |E| = {p.size}, robot cost {p.robot_cost}")
             for line in _point_text(p, fr.robot_optimal_cost):
-                click.echo(line)
-            if reports:
-                click.echo("verify: " + ("passed" if reports[k].ok else "FAILED"))
-        click.echo("")
-        click.echo(_status_line(fr))
+                run.echo(line)
+            if k < len(reports):
+                run.echo("verify: " + ("passed" if reports[k].ok else "FAILED"))
+            elif do_verify:
+                run.echo("verify: not checked")
+        run.echo("")
+        run.echo(_status_line(fr, notes))
         if fr.next_size_lower_bound is not None:
-            click.echo(
-                f"lower bound on |E| for the next (cheaper) point: {fr.next_size_lower_bound}"
-            )
-    _finish(fr, reports, verbose)
+            run.echo(f"lower bound on |E| for the next (cheaper) point: {fr.next_size_lower_bound}")
+    _stop_message(run)
+    return _finish(run, fr, reports, verbose)
 
 
 @main.command()
@@ -588,11 +911,10 @@ def frontier(as_json, do_verify, write_model, force, verbose, **kw):
 )
 @click.option("--planner", type=PLANNER, default="builtin", show_default=True)
 @click.option("--hitting-set", type=HITTING, default="rc2", show_default=True)
-@click.option("--timeout", type=float, default=None)
 @click.option("--json", "as_json", is_flag=True)
 @click.option("--verify", "do_verify", is_flag=True)
-@_friendly
-def explain(plan_file, planner, hitting_set, timeout, as_json, do_verify, verbose, **kw):
+@_command
+def explain(run, plan_file, planner, hitting_set, as_json, do_verify, verbose, **kw):
     """MCE: the smallest explanation that makes a plan optimal for the human."""
     from mega_sat.api import MegaSolver
     from mega_sat.family import step_str
@@ -600,36 +922,46 @@ def explain(plan_file, planner, hitting_set, timeout, as_json, do_verify, verbos
 
     task = _task_from(kw)
     steps = read_plan(plan_file) if plan_file else None
-    s = MegaSolver(task, planner=planner, hitting_set=hitting_set, timeout=timeout)
+    s = MegaSolver(task, planner=planner, hitting_set=hitting_set, deadline=run.deadline)
     _verbose_family(s, verbose)
     ex = s.explain(steps)
-    rep = s.verify(ex, producer=planner) if do_verify else None
+    rep, notes = None, []
+    if do_verify:
+        try:
+            rep = s.verify(ex, producer=planner)
+        except (TimeLimitReached, Interrupted) as stop:
+            run.quiet()
+            run.stopped = stop
+            notes.append(f"{stop} during --verify: not checked")
     if as_json:
         d = ex.to_dict()
         if rep:
             d["verify"] = rep.to_dict()
-        click.echo(json.dumps(d, indent=2))
+        run.echo_json(_with_notes(d, notes))
     else:
-        click.echo(
+        run.echo(
             f"Plan ({len(ex.plan)} steps, robot cost {ex.robot_cost}, "
             f"human cost after explanation {ex.human_cost}):"
         )
         for st in ex.plan:
-            click.echo(f"  {step_str(st)}")
+            run.echo(f"  {step_str(st)}")
         for e in ex.explanation:
-            click.echo(f"Explanation >> {e}")
+            run.echo(f"Explanation >> {e}")
         if not ex.explanation:
-            click.echo("Explanation >> (none needed)")
-        click.echo(
+            run.echo("Explanation >> (none needed)")
+        all_notes = [*ex.notes, *notes]
+        run.echo(
             f"|E| = {len(ex.explanation)}; time {ex.time_s:.3f}s; "
-            + ("exact: yes" if ex.exact else "exact: no (" + "; ".join(ex.notes) + ")")
+            + ("exact: yes" if ex.exact else "exact: no (" + "; ".join(all_notes) + ")")
         )
+        if notes and ex.exact:
+            run.echo("; " + "; ".join(notes))
         if rep:
-            click.echo("verify: " + ("passed" if rep.ok else "FAILED"))
+            run.echo("verify: " + ("passed" if rep.ok else "FAILED"))
             for line in rep.lines():
-                click.echo("  " + line)
-    if rep and not rep.ok:
-        sys.exit(1)
+                run.echo("  " + line)
+    _stop_message(run)
+    return run.exit_code(EXIT_FAILED if rep and not rep.ok else EXIT_OK)
 
 
 @main.command()
@@ -644,24 +976,24 @@ def explain(plan_file, planner, hitting_set, timeout, as_json, do_verify, verbos
     "installed, else builtin: not the SAT oracle that answers OPT by default).",
 )
 @click.option("--json", "as_json", is_flag=True)
-@_friendly
-def verify(explanation, plan_file, checker, as_json, verbose, **kw):
+@_command
+def verify(run, explanation, plan_file, checker, as_json, verbose, **kw):
     """Check a plan + explanation pair from files."""
-    from mega_sat.grounding import ground
     from mega_sat.planio import read_plan
     from mega_sat.verify import verify_pair
 
     task = _task_from(kw)
     sel = _read_explanation(task, explanation)
     steps = read_plan(plan_file)
-    rep = verify_pair(task, ground(task), sel, steps, producer="sat", checker=checker)
+    fam = _ground(task, run)
+    rep = verify_pair(task, fam, sel, steps, producer="sat", checker=checker, deadline=run.deadline)
     if as_json:
-        click.echo(json.dumps(rep.to_dict(), indent=2))
+        run.echo_json(rep.to_dict())
     else:
         for line in rep.lines():
-            click.echo(line)
-        click.echo("verify: " + ("passed" if rep.ok else "FAILED"))
-    sys.exit(0 if rep.ok else 1)
+            run.echo(line)
+        run.echo("verify: " + ("passed" if rep.ok else "FAILED"))
+    return EXIT_OK if rep.ok else EXIT_FAILED
 
 
 # --------------------------------------------------------------------------- generate
@@ -688,17 +1020,18 @@ def _time_budget_option(when: str):
 @click.option("--out", "out_dir", type=click.Path(), required=True)
 @_time_budget_option("before giving up")
 @click.option("--force", is_flag=True)
-@_friendly
-def generate(robot_domain, robot_problem, k, seed, out_dir, time_budget, force):
+@_command
+def generate(run, robot_domain, robot_problem, k, seed, out_dir, time_budget, force):
     """Derive a human model exactly --delta features away (seeded), as a task folder."""
     from mega_sat.generate import write_instance
 
     g = write_instance(
         robot_domain, robot_problem, k, seed, out_dir, overwrite=force, time_budget=time_budget
     )
-    click.echo(f"wrote {out_dir} (|Delta| = {len(g.updates)}, seed {seed}, {g.attempts} draw(s)):")
+    run.echo(f"wrote {out_dir} (|Delta| = {len(g.updates)}, seed {seed}, {g.attempts} draw(s)):")
     for u in g.updates:
-        click.echo(f"  {u.name}")
+        run.echo(f"  {u.name}")
+    return EXIT_OK
 
 
 @main.command("generate-suite")
@@ -712,8 +1045,8 @@ def generate(robot_domain, robot_problem, k, seed, out_dir, time_budget, force):
 @click.option("--seed", type=int, default=0, show_default=True)
 @_time_budget_option("per instance before skipping it")
 @click.option("--force", is_flag=True)
-@_friendly
-def generate_suite(domains_dir, deltas, seed, time_budget, force):
+@_command
+def generate_suite(run, domains_dir, deltas, seed, time_budget, force):
     """Generate DOMAINS_DIR/<name>/delta/<K>/<problem>/ for every shipped problem."""
     from mega_sat.generate import instance_seed, write_instance
 
@@ -745,10 +1078,11 @@ def generate_suite(domains_dir, deltas, seed, time_budget, force):
                     failed.append(out)
                     click.echo(f"{out}: skipped: {e.message}", err=True)
                     continue
-                click.echo(f"{out}: |Delta| = {len(g.updates)}")
+                run.echo(f"{out}: |Delta| = {len(g.updates)}", final=False)
     if failed:
         click.echo(f"{len(failed)} instance(s) not generated", err=True)
-        sys.exit(1)
+        return EXIT_FAILED
+    return EXIT_OK
 
 
 def _register_bench() -> None:

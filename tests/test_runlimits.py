@@ -1,11 +1,16 @@
-"""Run limits: one time limit for the whole run, and interrupts (issue 18 items 3-4).
+"""Run limits: one time limit for the whole run, interrupts, one exit-code table, and a
+stdout that cannot be written (issue 18 items 3-5, issue 19).
 
-The subprocess tests run a separate interpreter, since signals only show there; each bounds its
-own wait so that a regression fails instead of hanging.
+The subprocess tests run the real ``mega-sat`` program, since signals, the backstop timer, the
+interpreter's start-up (inside the time limit) and closed or full file descriptors only show
+there; each bounds its own wait so that a regression fails instead of hanging.
 """
 
 from __future__ import annotations
 
+import json
+import os
+import re
 import signal
 import subprocess
 import sys
@@ -13,14 +18,42 @@ import time
 from pathlib import Path
 
 import pytest
+from click.testing import CliRunner
 
+from mega_sat.cli import main
 from mega_sat.deadline import MAX_TIMEOUT, NO_DEADLINE, Deadline, TimeLimitReached, parse_timeout
-from mega_sat.errors import UsageError
+from mega_sat.errors import EXIT_CODES, UsageError
 
 ROOT = Path(__file__).resolve().parent.parent
 USAR = ROOT / "domains" / "usar-fetch" / "p1"
+LONG_FRONTIER = ROOT / "domains" / "rover-martian" / "delta" / "30" / "p1"
+"""A frontier that takes several seconds and finds its first point within about one."""
+
+PROGRAM = [sys.executable, "-c", "import sys; from mega_sat.cli import main; sys.exit(main())"]
 WAIT = 30.0
 """Seconds a subprocess test waits before it kills the child and fails."""
+
+
+def _runner() -> CliRunner:
+    try:
+        return CliRunner(mix_stderr=False)  # type: ignore[call-arg]
+    except TypeError:
+        return CliRunner()
+
+
+def run(*args):
+    return _runner().invoke(main, [str(a) for a in args])
+
+
+def _spawn(args, **kw) -> subprocess.Popen:
+    return subprocess.Popen(
+        [*PROGRAM, *map(str, args)],
+        cwd=ROOT,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        **kw,
+    )
 
 
 def _finish(proc: subprocess.Popen) -> tuple[int, str, str]:
@@ -31,6 +64,13 @@ def _finish(proc: subprocess.Popen) -> tuple[int, str, str]:
         out, err = proc.communicate()
         pytest.fail(f"still running after {WAIT} s; stderr: {err[-2000:]}")
     return proc.returncode, out, err
+
+
+def _one_error_line(stderr: str) -> str:
+    lines = [ln for ln in stderr.splitlines() if ln.strip() and not ln.startswith(";")]
+    assert "Traceback" not in stderr, stderr
+    assert len(lines) == 1 and lines[0].startswith("error: "), stderr
+    return lines[0]
 
 
 @pytest.fixture
@@ -125,7 +165,194 @@ def test_api_partial_frontier_after_an_interrupt(monkeypatch):
     assert solver.partial_solution(10, "interrupted").chosen.size == 1
 
 
+@pytest.mark.parametrize("value", ["nan", "-1", "0", "abc"])
+def test_bad_timeout_is_one_line_and_exit_2(value):
+    res = run("frontier", "--task", USAR, "--timeout", value)
+    assert res.exit_code == 2
+    assert "--timeout" in _one_error_line(res.stderr)
+    js = run("frontier", "--task", USAR, "--timeout", value, "--json")
+    assert js.exit_code == 2 and json.loads(js.stdout)["exit_code"] == 2
+
+
+@pytest.mark.parametrize("value", ["inf", "1e308", "1e10"])
+def test_huge_timeout_means_no_limit(value):
+    """These overflowed the oracles' threading.Timer: a traceback from the timer thread."""
+    code, out, err = _finish(_spawn(["frontier", "--task", USAR, "--timeout", value, "--json"]))
+    assert code == 0 and "Traceback" not in err and "Error" not in err, err
+    assert json.loads(out)["complete"] is True
+
+
+# --------------------------------------------------------------------------- exit codes
+
+
+def test_exit_code_table_is_documented():
+    """docs/cli.md lists exactly the codes of mega_sat.errors.EXIT_CODES."""
+    text = (ROOT / "docs" / "cli.md").read_text()
+    section = text.split("## Exit codes and errors", 1)[1]
+    documented = {int(c) for c in re.findall(r"^\| (\d+) \|", section, re.M)}
+    assert documented == set(EXIT_CODES)
+
+
+COMMANDS = {
+    "diff": [],
+    "apply": ["--explanation", ROOT / "docs/examples/empty.explanation", "--out", "{tmp}/m"],
+    "plan": ["--json"],
+    "validate": ["--plan", ROOT / "docs/examples/usar-p1-explicable.plan", "--json"],
+    "encode": ["--out", "{tmp}/e"],
+    "solve": ["--alpha", "1", "--json"],
+    "frontier": ["--json"],
+    "explain": ["--json"],
+    "verify": [
+        "--plan",
+        ROOT / "docs/examples/usar-p1-explicable.plan",
+        "--explanation",
+        ROOT / "docs/examples/usar-p1-low-alpha.explanation",
+        "--json",
+    ],
+}
+
+
+def _args(cmd, tmp_path, *extra):
+    return [cmd, "--task", USAR, *(str(a).format(tmp=tmp_path) for a in COMMANDS[cmd]), *extra]
+
+
+@pytest.mark.parametrize("cmd", sorted(COMMANDS))
+def test_every_command_follows_the_table(cmd, tmp_path):
+    """For each command: 0 with an answer, 2 for bad input, 124 when the time limit leaves
+    nothing to report; with --json exactly one JSON object on stdout in every case."""
+    as_json = "--json" in COMMANDS[cmd]
+    ok = run(*_args(cmd, tmp_path, "--timeout", "60"))
+    assert ok.exit_code == 0, ok.output
+    if as_json:
+        json.loads(ok.stdout)
+    bad = run(*_args(cmd, tmp_path, "--robot-domain", "nowhere.pddl"))
+    assert bad.exit_code == 2 and _one_error_line(bad.stderr)
+    late = run(*_args(cmd, tmp_path, "--timeout", "1e-9"))
+    assert late.exit_code == 124 and "time limit" in _one_error_line(late.stderr)
+    for res, code in ((bad, 2), (late, 124)):
+        if as_json:
+            d = json.loads(res.stdout)
+            assert d["exit_code"] == code and d["error"]
+            if code == 124:
+                assert d["complete"] is False and d["status"] == "timeout"
+        else:
+            assert res.stdout == ""
+
+
+def test_json_errors_are_one_object():
+    for args, code in (
+        (["solve", "--task", USAR, "--alpha", "-1", "--json"], 2),
+        (["frontier", "--task", USAR, "--json", "--nonsense"], 2),
+        (["frontier", "--json"], 2),
+    ):
+        res = run(*args)
+        assert res.exit_code == code
+        assert json.loads(res.stdout) == {"error": res.stderr.strip()[7:], "exit_code": code}
+
+
+def _sleep_past_deadline_after_first_point(monkeypatch):
+    """JOINT answers as usual, but after the first frontier point the clock runs out."""
+    from mega_sat.oracles import SatOracles
+
+    joint = SatOracles.joint
+
+    def slow_joint(self, *args, **kw):
+        res = joint(self, *args, **kw)
+        if res.plan is not None and self.deadline is not None:
+            time.sleep(max(0.0, self.deadline - time.perf_counter()) + 0.01)
+        return res
+
+    monkeypatch.setattr(SatOracles, "joint", slow_joint)
+
+
+@pytest.mark.parametrize("cmd", [["frontier"], ["solve", "--alpha", "0.1"]])
+def test_time_limit_with_a_partial_answer_is_exit_0(cmd, monkeypatch):
+    _sleep_past_deadline_after_first_point(monkeypatch)
+    res = run(*cmd, "--task", USAR, "--timeout", "1", "--json")
+    assert res.exit_code == 0, res.output
+    d = json.loads(res.stdout)
+    assert d["complete"] is False and d["exact"] is False
+    assert [len(p["explanation"]) for p in d["frontier"]] == [1]
+    assert 1 <= d["next_size_lower_bound"] <= 3  # the missing point has |E| = 3
+    assert any(n.startswith("time limit 1.0s reached") for n in d["notes"])
+    if cmd[0] == "solve":
+        assert d["chosen"]["robot_cost"] == 8
+
+
+@pytest.mark.parametrize(
+    "cmd", [["frontier"], ["solve", "--alpha", "1"], ["explain"], ["plan"], ["verify"]]
+)
+def test_time_limit_during_grounding(cmd, big_grounding):
+    """The limit bounds grounding too: these ran for minutes (frontier exited 4, solve 3,
+    explain 2 once the engines gave up), now each stops within max(1 s, 5 %) with 124."""
+    if cmd == ["verify"]:
+        (big_grounding / "e.txt").write_text("")
+        (big_grounding / "x.plan").write_text("(go o0 o1)\n")
+        cmd += ["--explanation", big_grounding / "e.txt", "--plan", big_grounding / "x.plan"]
+    t0 = time.perf_counter()
+    code, out, err = _finish(_spawn([*cmd, "--task", big_grounding, "--timeout", "1.5", "--json"]))
+    elapsed = time.perf_counter() - t0
+    assert code == 124, err
+    assert "time limit 1.5s" in _one_error_line(err)
+    assert json.loads(out) == {
+        "complete": False,
+        "status": "timeout",
+        "error": "time limit 1.5s reached before anything could be reported",
+        "exit_code": 124,
+    }
+    assert elapsed < 1.5 + 1.0, f"stopped after {elapsed:.2f} s"
+
+
+def test_large_grounding_stops_within_the_slack(big_grounding):
+    t0 = time.perf_counter()
+    code, _, err = _finish(_spawn(["frontier", "--task", big_grounding, "--timeout", "3"]))
+    elapsed = time.perf_counter() - t0
+    assert code == 124 and "Traceback" not in err
+    assert 2.9 < elapsed < 3.0 + 1.0, f"stopped after {elapsed:.2f} s"
+
+
 # --------------------------------------------------------------------------- interrupts
+
+
+@pytest.mark.parametrize("sig, code", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
+def test_interrupt_prints_the_partial_frontier(sig, code):
+    proc = _spawn(["frontier", "--task", LONG_FRONTIER, "--json"])
+    time.sleep(1.5)
+    assert proc.poll() is None, "the frontier ended before the signal"
+    proc.send_signal(sig)
+    exit_code, out, err = _finish(proc)
+    assert exit_code == code, err
+    assert "Traceback" not in err and "Aborted" not in err, err
+    d = json.loads(out)
+    assert d["complete"] is False
+    if "status" in d:  # stopped before the robot optimum was known
+        assert d["status"] == "interrupted" and d["exit_code"] == code
+    else:
+        assert d["exact"] is False and any("interrupted by" in n for n in d["notes"])
+
+
+def test_interrupt_keeps_the_points_found(monkeypatch):
+    """SIGINT once the first point is proven: that point is printed, then exit 130."""
+    from mega_sat.oracles import SatOracles
+
+    joint = SatOracles.joint
+    found = []
+
+    def joint_then_ctrl_c(self, *args, **kw):
+        if found:
+            os.kill(os.getpid(), signal.SIGINT)
+        res = joint(self, *args, **kw)
+        if res.plan is not None:
+            found.append(res)
+        return res
+
+    monkeypatch.setattr(SatOracles, "joint", joint_then_ctrl_c)
+    res = run("frontier", "--task", USAR, "--json")
+    assert res.exit_code == 130, res.output
+    d = json.loads(res.stdout)
+    assert d["complete"] is False and len(d["frontier"]) == 1
+    assert d["frontier"][0]["robot_cost"] == found[0].robot_cost
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # handlers restored
 
 
 SAT_CALL = """
@@ -160,3 +387,157 @@ def test_ctrl_c_during_a_sat_call_is_an_ordinary_interrupt():
     proc.send_signal(signal.SIGINT)
     _, out, err = _finish(proc)
     assert out.strip() == "KeyboardInterrupt", (out, err)
+
+
+FAKE_CBC = """#!{python}
+import time
+time.sleep(120)
+"""
+
+
+@pytest.mark.parametrize("sig, code", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
+def test_interrupt_ends_cbc_and_removes_its_files(sig, code, tmp_path):
+    """CBC (here a stand-in that never answers) must not outlive mega-sat, and PuLP's
+    temporary *-pulp.mps/.sol files must go with it."""
+    fake = tmp_path / "fake-cbc"
+    fake.write_text(FAKE_CBC.format(python=sys.executable))
+    fake.chmod(0o755)
+    tmp = tmp_path / "tmp"
+    tmp.mkdir()
+    patch = f"import pulp; pulp.PULP_CBC_CMD.pulp_cbc_path = {str(fake)!r}; "
+    proc = subprocess.Popen(
+        [sys.executable, "-c", patch + PROGRAM[2]]
+        + ["frontier", "--task", str(USAR), "--hitting-set", "ilp", "--json"],
+        cwd=ROOT,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "TMPDIR": str(tmp), "TMP": str(tmp)},
+    )
+    cbc = None
+    try:
+        for _ in range(200):
+            cbc = _child_running(proc.pid, str(fake))
+            if cbc is not None or proc.poll() is not None:
+                break
+            time.sleep(0.05)
+        assert cbc is not None, "the stand-in CBC never started"
+        proc.send_signal(sig)
+        exit_code, out, err = _finish(proc)
+        assert exit_code == code and "Traceback" not in err, err
+        assert json.loads(out)["complete"] is False
+        assert not _alive(cbc), "CBC outlived mega-sat"
+        assert list(tmp.rglob("*")) == [], "temporary files left behind"
+    finally:
+        if cbc is not None and _alive(cbc):
+            os.kill(cbc, signal.SIGKILL)
+
+
+FAKE_FD = """import subprocess, sys, time
+subprocess.Popen([sys.executable, "-c", "import time; time.sleep(120)", {marker!r}])
+time.sleep(120)
+"""
+
+
+@pytest.mark.parametrize("sig, code", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
+def test_interrupt_ends_fast_downward(sig, code, tmp_path):
+    """Fast Downward (here a stand-in driver with a search child) runs in its own session, so
+    no signal reaches it but the one mega-sat sends: its whole group must end with mega-sat."""
+    marker = str(tmp_path / "fake-fd-search")
+    fake = tmp_path / "fake-fast-downward.py"
+    fake.write_text(FAKE_FD.format(marker=marker))
+    patch = (
+        "import mega_sat.fast_downward as fd, pathlib; "
+        f"fd.fd_script = lambda: pathlib.Path({str(fake)!r}); "
+    )
+    proc = subprocess.Popen(
+        [sys.executable, "-c", patch + PROGRAM[2]]
+        + ["plan", "--task", str(USAR), "--planner", "fd", "--json"],
+        cwd=ROOT,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    search = None
+    try:
+        for _ in range(200):
+            search = _process_with(marker)
+            if search is not None or proc.poll() is not None:
+                break
+            time.sleep(0.05)
+        assert search is not None, "the stand-in search never started"
+        proc.send_signal(sig)
+        exit_code, out, err = _finish(proc)
+        assert exit_code == code and "Traceback" not in err, err
+        assert json.loads(out)["status"] == "interrupted"
+        time.sleep(0.2)
+        assert not _alive(search), "Fast Downward's search outlived mega-sat"
+    finally:
+        if search is not None and _alive(search):
+            os.kill(search, signal.SIGKILL)
+
+
+def _process_with(marker: str) -> int | None:
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                cmdline = Path(f"/proc/{entry}/cmdline").read_bytes().decode(errors="replace")
+            except OSError:
+                continue
+            if marker in cmdline and _alive(int(entry)):
+                return int(entry)
+    return None
+
+
+def _child_running(parent: int, marker: str) -> int | None:
+    for entry in os.listdir("/proc"):
+        if not entry.isdigit():
+            continue
+        try:
+            stat = Path(f"/proc/{entry}/stat").read_text()
+            cmdline = Path(f"/proc/{entry}/cmdline").read_bytes().decode(errors="replace")
+        except OSError:
+            continue
+        if int(stat.rsplit(")", 1)[1].split()[1]) == parent and marker in cmdline:
+            return int(entry)
+    return None
+
+
+def _alive(pid: int) -> bool:
+    try:
+        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+    except OSError:
+        return False
+    return state != "Z"
+
+
+# --------------------------------------------------------------------------- stdout
+
+
+def test_full_disk_on_stdout_is_an_error():
+    with open("/dev/full", "w") as full:
+        proc = subprocess.Popen(
+            [*PROGRAM, "solve", "--task", str(USAR), "--alpha", "1"],
+            cwd=ROOT,
+            stdout=full,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
+        _, err = proc.communicate(timeout=WAIT)
+    assert proc.returncode == 74
+    assert "No space left" in _one_error_line(err)
+
+
+@pytest.mark.parametrize("args", [["diff", "--task", str(USAR)], ["solve", "--help"]])
+def test_closed_stdout_is_an_error(args):
+    proc = subprocess.Popen(
+        [*PROGRAM, *args],
+        cwd=ROOT,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        preexec_fn=lambda: os.close(1),
+    )
+    _, err = proc.communicate(timeout=WAIT)
+    assert proc.returncode == 74
+    assert "standard output" in _one_error_line(err)
