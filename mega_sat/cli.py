@@ -780,7 +780,8 @@ def _check_and_write(run, solver, points, do_verify, write_model, force):
 
 
 def _with_notes(d: dict, notes: list[str]) -> dict:
-    """A result's JSON object with the run's own notes (a stop after the answer was found)."""
+    """A result's JSON object with the run's own notes (a stop after the answer was found):
+    ``complete`` false, ``exact`` as proven (the answer itself is finished)."""
     if notes:
         d["complete"] = False
         d["notes"] = [*d.get("notes", []), *notes]
@@ -796,10 +797,17 @@ def _finish(run, fr, reports, verbose) -> int:
     return run.exit_code(EXIT_OK)
 
 
-def _status_line(fr, notes=()) -> str:
-    if fr.exact and not notes:
+def _status_line(fr) -> str:
+    if fr.exact:
         return "exact: yes (minimal explanations and optimal costs proven)"
-    return "exact: no (" + "; ".join([*fr.notes, *notes]) + ")"
+    return "exact: no (" + "; ".join(fr.notes) + ")"
+
+
+def _incomplete_lines(run, notes) -> None:
+    """The run's own notes (a stop after the answer was found) in text: the answer stays as
+    proven, what was requested on top of it is not finished."""
+    for note in notes:
+        run.echo(f"incomplete: {note}")
 
 
 def _stop_message(run) -> None:
@@ -850,7 +858,8 @@ def solve(run, alpha, as_json, do_verify, write_model, force, verbose, **kw):
             f"robot optimal cost {fr.robot_optimal_cost}; |Delta| = "
             f"{len(fr.model_difference)}; engine {fr.engine}; time {elapsed:.3f}s"
         )
-        run.echo(_status_line(fr, notes))
+        run.echo(_status_line(fr))
+        _incomplete_lines(run, notes)
         for rep in reports:
             run.echo("verify: " + ("passed" if rep.ok else "FAILED"))
             for line in rep.lines():
@@ -893,7 +902,8 @@ def frontier(run, as_json, do_verify, write_model, force, verbose, **kw):
             elif do_verify:
                 run.echo("verify: not checked")
         run.echo("")
-        run.echo(_status_line(fr, notes))
+        run.echo(_status_line(fr))
+        _incomplete_lines(run, notes)
         if fr.next_size_lower_bound is not None:
             run.echo(f"lower bound on |E| for the next (cheaper) point: {fr.next_size_lower_bound}")
     _stop_message(run)
@@ -949,13 +959,11 @@ def explain(run, plan_file, planner, hitting_set, as_json, do_verify, verbose, *
             run.echo(f"Explanation >> {e}")
         if not ex.explanation:
             run.echo("Explanation >> (none needed)")
-        all_notes = [*ex.notes, *notes]
         run.echo(
             f"|E| = {len(ex.explanation)}; time {ex.time_s:.3f}s; "
-            + ("exact: yes" if ex.exact else "exact: no (" + "; ".join(all_notes) + ")")
+            + ("exact: yes" if ex.exact else "exact: no (" + "; ".join(ex.notes) + ")")
         )
-        if notes and ex.exact:
-            run.echo("; " + "; ".join(notes))
+        _incomplete_lines(run, notes)
         if rep:
             run.echo("verify: " + ("passed" if rep.ok else "FAILED"))
             for line in rep.lines():

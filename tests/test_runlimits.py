@@ -279,6 +279,34 @@ def test_time_limit_with_a_partial_answer_is_exit_0(cmd, monkeypatch):
         assert d["chosen"]["robot_cost"] == 8
 
 
+def test_time_limit_during_verify_keeps_the_answer(monkeypatch):
+    """A limit reached while --verify checks a finished frontier: the frontier stays exact,
+    the reports made so far are printed, and the run is marked incomplete (exit 0)."""
+    import mega_sat.api as api
+
+    verify_pair = api.verify_pair
+    calls = []
+
+    def slow_second_check(*args, **kw):
+        calls.append(1)
+        if len(calls) == 2:
+            time.sleep(kw["deadline"].remaining() + 0.01)
+        return verify_pair(*args, **kw)
+
+    monkeypatch.setattr(api, "verify_pair", slow_second_check)
+    args = ["frontier", "--task", ROOT / "domains/blocksworld/p2", "--verify", "--timeout", "3"]
+    res = run(*args, "--json")
+    assert res.exit_code == 0, res.output
+    d = json.loads(res.stdout)
+    assert d["exact"] is True and d["complete"] is False
+    assert len(d["frontier"]) == 3 and len(d["verify"]) == 1 and d["verify"][0]["ok"]
+    assert d["notes"] == ["time limit 3.0s reached during --verify: 1 of 3 point(s) checked"]
+    calls.clear()
+    text = run(*args).stdout
+    assert "exact: yes" in text and text.count("verify: not checked") == 2
+    assert "incomplete: time limit 3.0s reached during --verify" in text
+
+
 @pytest.mark.parametrize(
     "cmd", [["frontier"], ["solve", "--alpha", "1"], ["explain"], ["plan"], ["verify"]]
 )
