@@ -1,16 +1,19 @@
 """DIMACS export of the OPT and JOINT formulas, for external SAT and MaxSAT solvers.
 
 The exported formula is the oracles' encoding (:mod:`mega_sat.sat_encoding`) at the horizon
-that makes the bound exact (``floor(bound / c_min)`` steps), with the candidate model, the goal
-activation and the cost bounds as unit clauses instead of assumptions.  So:
+that makes the bound exact (``floor(bound / c_min)`` steps, at most ``horizon_cap``), with the
+candidate model, the goal activation and the cost bounds as unit clauses instead of
+assumptions.  So:
 
 * ``<kind>.cnf`` is satisfiable iff a plan (OPT) or joint plan (JOINT) within the bounds exists;
 * ``<kind>.wcnf`` drops the cost bound of the minimized copy (human for OPT, robot for JOINT)
-  and adds one soft unit clause ``-u`` per cost unit, weighted by the cost unit: its MaxSAT
-  optimum is the optimal cost (as long as ``bound`` is at least the optimum);
+  and adds one soft unit clause ``-v`` per cost variable of each step, weighted by what it
+  stands for (unary: one cost unit each; binary: bit ``b`` weighs ``2**b`` cost units): its
+  MaxSAT optimum is the optimal cost (as long as ``bound`` is at least the optimum);
 * ``<kind>.vars.json`` maps variables to meanings (``a[3]=(move p1 p2)``,
-  ``x[human][2](at p1)``, ``e[5]=add-has-initial-state-...``, ``u[human][4][2]``) plus the
-  horizon, bounds and whether the horizon argument is exact (it is not with zero-cost actions).
+  ``x[human][2](at p1)``, ``e[5]=add-has-initial-state-...``, ``u[human][4][2]`` or, with
+  binary costs, ``w[human][4][2]``) plus the horizon, bounds and whether the horizon argument
+  is exact (it is not with zero-cost actions, nor when the horizon was capped).
 """
 
 from __future__ import annotations
@@ -25,18 +28,20 @@ from mega_sat.family import GroundFamily
 from mega_sat.sat_encoding import HUMAN, ROBOT, FamilyEncoding
 
 
-def _horizon(family: GroundFamily, bound: int) -> tuple[int, bool]:
+def _horizon(family: GroundFamily, bound: int, cap: int) -> tuple[int, bool]:
+    """Steps that every plan of cost ``<= bound`` fits in, and whether that is a proof: not
+    with zero-cost actions, nor above ``cap`` (large costs over a small cheapest one)."""
     if family.min_cost <= 0:
-        return max(bound, 0), False
-    return max(bound, 0) // family.min_cost, True
+        return min(max(bound, 0), cap), False
+    need = max(bound, 0) // family.min_cost
+    return min(need, cap), need <= cap
 
 
 def _write(
     enc: FamilyEncoding,
     clauses: list[list[int]],
     units: list[int],
-    soft: list[int],
-    weight: int,
+    soft: list[tuple[int, int]],
     meta: dict,
     out_dir: Path,
     kind: str,
@@ -60,7 +65,7 @@ def _write(
         wcnf.append(c)
     for u in units[: meta["n_hard_units_wcnf"]]:
         wcnf.append([u])
-    for v in soft:
+    for v, weight in soft:
         wcnf.append([-v], weight=weight)
     wcnf.to_file(str(paths["wcnf"]), comments=comments)
     names = enc.var_map()
@@ -82,12 +87,14 @@ def export(
     robot_bound: int | None = None,
     human_bound: int | None = None,
     update_names: Sequence[str] | None = None,
+    horizon_cap: int = 200,
 ) -> dict[str, Path]:
     """Write ``<kind>.cnf``, ``<kind>.wcnf`` and ``<kind>.vars.json`` into ``out_dir``.
 
     ``kind="opt"``: plans of ``human + selection`` with cost <= ``human_bound`` (default: the
     optimum, computed with the OPT oracle).  ``kind="joint"``: JOINT with both bounds
-    (``human_bound`` defaults to the optimum of ``human + selection``).  Returns the paths.
+    (``human_bound`` defaults to the optimum of ``human + selection``).  The horizon is at
+    most ``horizon_cap`` steps, as in the oracles.  Returns the paths.
     """
     sel = frozenset(selection)
     if kind not in ("opt", "joint"):
@@ -103,7 +110,7 @@ def export(
     if human_bound < 0 or (robot_bound is not None and robot_bound < 0):
         raise ValueError("bounds must be >= 0")
     bound = human_bound if (kind == "opt" or robot_bound is None) else min(human_bound, robot_bound)
-    h, exact = _horizon(family, bound)
+    h, exact = _horizon(family, bound, horizon_cap)
     clauses: list[list[int]] = []
     copies = (HUMAN,) if kind == "opt" else (HUMAN, ROBOT)
     enc = FamilyEncoding(family, clauses.append, copies=copies)
@@ -113,8 +120,10 @@ def export(
     other = [] if kind == "opt" else enc.cost_assumptions(HUMAN, human_bound, h)
     own = enc.cost_assumptions(minimized, human_bound if kind == "opt" else robot_bound, h)
     hard += enc.goal_assumptions(h) + other
-    # soft units: every cost unit of the minimized copy, worth one cost unit each
-    soft = [enc.u(minimized, t, k) for t in range(h) for k in range(1, enc.max_units + 1)]
+    # soft units: every cost variable of the minimized copy, worth what it stands for
+    soft = [
+        (v, w * enc.cost_unit) for t in range(h) for v, w in enc.step_cost_literals(minimized, t)
+    ]
     meta = {
         "kind": kind,
         "selection": sorted(sel),
@@ -123,12 +132,11 @@ def export(
         "human_bound": human_bound,
         "robot_bound": robot_bound,
         "cost_unit": enc.cost_unit,
+        "cost_bits": enc.cost_bits,
         "vars": enc.top,
         "n_hard_units_wcnf": len(hard),
     }
-    return _write(
-        enc, clauses, hard + own, soft, enc.cost_unit, meta, Path(out_dir), kind, update_names
-    )
+    return _write(enc, clauses, hard + own, soft, meta, Path(out_dir), kind, update_names)
 
 
 def export_opt(

@@ -29,11 +29,10 @@ from mega_sat.family import GroundFamily, GroundTask, GuardLit, PlanStep, holds
 from mega_sat.invariants import EncodingFacts, encoding_facts
 from mega_sat.operator_counting import operator_counting_bound
 from mega_sat.plan_reduction import reduce_plan
-from mega_sat.sat_encoding import HUMAN, ROBOT, FamilyEncoding
+from mega_sat.sat_encoding import HUMAN, ROBOT, UNARY_MAX_UNITS, FamilyEncoding
 from mega_sat.simulate import ground_plan_cost
 
 _INF = float("inf")
-_BIG = 1 << 40  # a cost bound above any plan's cost (a core ruling out every plan)
 
 
 class OracleInterrupted(Exception):  # noqa: N818 - the name says what happened
@@ -227,7 +226,8 @@ class SatOracles:
     core below the human optimum (:meth:`_joint_by_dominance`); ``step_first`` lets OPT's
     descent ask "a plan of at most k steps, any cost" before its cost queries (a proven step
     lower bound settles most hard proofs without the cost totalizer; ``encodings/sequential.md``,
-    OPT step 6).
+    OPT step 6); ``unary_max_units`` chooses between unary and binary cost bounds in the
+    encodings (:data:`mega_sat.sat_encoding.UNARY_MAX_UNITS`).
     """
 
     def __init__(
@@ -249,6 +249,7 @@ class SatOracles:
         operator_counting: bool = True,
         counting_time_limit: float = 2.0,
         step_first: bool = True,
+        unary_max_units: int = UNARY_MAX_UNITS,
     ):
         t0 = time.perf_counter()
         self.family = family
@@ -272,6 +273,7 @@ class SatOracles:
             symmetry_breaking=symmetry_breaking,
             partial_order=partial_order,
             invariants=self._facts,
+            unary_max_units=unary_max_units,
         )
         self.joint_enc = FamilyEncoding(
             family,
@@ -280,6 +282,7 @@ class SatOracles:
             symmetry_breaking=symmetry_breaking,
             partial_order=partial_order,
             invariants=self._facts,
+            unary_max_units=unary_max_units,
         )
         self._opt_cache: dict[frozenset[int], OptResult] = {}
         self._opt_plans: list[tuple[PlanStep, ...]] = []
@@ -335,6 +338,8 @@ class SatOracles:
             "sat_core_min_calls": 0,
             "sat_encode_time_s": time.perf_counter() - t0,
             "sat_max_call_time_s": 0.0,
+            # how cost bounds are encoded: 0 = unary units, else bits per step (binary)
+            "sat_cost_bits": self.opt_enc.cost_bits,
         }
         self._update_size_stats()
 

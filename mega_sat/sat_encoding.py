@@ -10,9 +10,10 @@ task.  It has one or two *state copies* that share the action variables:
 
 At most one action runs per step (a step without an action is a no-op); with symmetry breaking
 no-op steps only come at the end.  The horizon grows with :meth:`FamilyEncoding.extend`; goals
-are switched on per horizon by an activation literal, and cost bounds are assumptions on an
-incremental totalizer over unary cost units.  Clauses go to a *sink* (a live SAT solver or a
-CNF being written), so the same code serves the oracles and the DIMACS export.
+are switched on per horizon by an activation literal, and cost bounds are assumptions: on an
+incremental totalizer over unary cost units while actions cost few units, else on a comparator
+over a binary sum of per-step costs (:data:`UNARY_MAX_UNITS`).  Clauses go to a *sink* (a live
+SAT solver or a CNF being written), so the same code serves the oracles and the DIMACS export.
 """
 
 from __future__ import annotations
@@ -35,7 +36,17 @@ GUARDED_FROM_STEPS = 4
 every state layer): they cost up to two h^2 computations per update, which short queries do
 not repay (usar-fetch Δ=20 p2: 0.41 s of a 0.6 s run, for JOINT queries of one step)."""
 
-# Template literal kinds: e variable, action at t, state at t, state at t+1, cost unit at t.
+UNARY_MAX_UNITS = 16
+"""Costs are counted in unary (one variable per cost unit and step, a totalizer for the bound)
+while the costliest action costs at most this many cost units (multiples of the gcd of all
+costs); above it, in binary (one variable per bit of a step's cost, a ripple-carry sum over the
+steps, a comparator per bound), whose size grows with the bit length of the costs, not their
+value.  The totalizer propagates better on small costs, but it has ``steps * units`` inputs and
+grows with the bound as well, so large costs need the binary form.  Every shipped domain has at
+most 5 units per step and keeps the unary form."""
+
+# Template literal kinds: e variable, action at t, state at t, state at t+1, and cost at t (a
+# unary unit, or a bit of the step's binary cost).
 _E, _A, _X0, _X1, _U = range(5)
 
 Lit = tuple[int, int, int]
@@ -76,6 +87,7 @@ class FamilyEncoding:
         partial_order: bool = False,
         invariants: bool | EncodingFacts | Callable[[], EncodingFacts] = True,
         symmetry: bool = True,
+        unary_max_units: int = UNARY_MAX_UNITS,
     ):
         if (
             not copies
@@ -100,6 +112,10 @@ class FamilyEncoding:
         # Costs are counted in units of their gcd: fewer units, same "cost <= B" answers.
         self.cost_unit = math.gcd(*values) if any(values) else 1
         self.max_units = max(values, default=0) // self.cost_unit
+        # binary step costs when unary units would be too many (see UNARY_MAX_UNITS)
+        self.binary = self.max_units > unary_max_units
+        self.cost_bits = self.max_units.bit_length() if self.binary else 0
+        self._step_vars = self.cost_bits if self.binary else self.max_units
         # Per-step layer bases (variable = base + offset, offsets start at 1).
         self.a_base: list[int] = []
         self.act: list[int] = []  # act[t]: some action runs at step t
@@ -107,6 +123,10 @@ class FamilyEncoding:
         self.u_base: dict[str, list[int]] = {c: [] for c in self.copies}
         self.goal_act: dict[int, int] = {}
         self._tot: dict[str, ITotalizer | None] = {c: None for c in self.copies}
+        # binary form: sum_bits[c][t] = bits (least significant first) of the cost of steps
+        # 0..t-1 in units; one comparator literal per (copy, horizon, bound in units)
+        self.sum_bits: dict[str, list[list[int]]] = {c: [[]] for c in self.copies}
+        self._cmp: dict[tuple[str, int, int], int] = {}
         self._templates = {c: self._step_template(c) for c in self.copies}
         self.prefix: list[list[int]] = []
         self.roles: list[dict[tuple[str, int], int]] = []
@@ -177,8 +197,16 @@ class FamilyEncoding:
         return self.x_base[copy][t] + p + 1
 
     def u(self, copy: str, t: int, k: int) -> int:
-        """Cost unit ``k`` (1-based) of step ``t``: "step t costs at least k units"."""
+        """Cost variable ``k`` (1-based) of step ``t``: unary, "step t costs at least k units";
+        binary, bit ``k - 1`` of an upper bound on the step's cost in units."""
         return self.u_base[copy][t] + k
+
+    def step_cost_literals(self, copy: str, t: int) -> list[tuple[int, int]]:
+        """``(variable, weight in cost units)`` pairs whose true weights add up to at least the
+        cost of step ``t``, and to exactly it in some model (the MaxSAT export's soft units)."""
+        if self.binary:
+            return [(self.u(copy, t, b + 1), 1 << b) for b in range(self.cost_bits)]
+        return [(self.u(copy, t, k), 1) for k in range(1, self.max_units + 1)]
 
     def _ensure_facts(self) -> None:
         """Compute (or fetch) the invariants, guarded mutexes and backward layers once."""
@@ -283,8 +311,13 @@ class FamilyEncoding:
                     deleters.setdefault(p, []).append((j, gs))
             for guards, value in act.cost:
                 k = value // self.cost_unit
-                if k > 0:
-                    put([na, *(self._neg(self._guard(copy, g)) for g in guards), (_U, k, 1)])
+                neg = [self._neg(self._guard(copy, g)) for g in guards]
+                if self.binary:  # every bit of k is set (other bits are free: cost >= k)
+                    for b in range(k.bit_length()):
+                        if k >> b & 1:
+                            put([na, *neg, (_U, b + 1, 1)])
+                elif k > 0:
+                    put([na, *neg, (_U, k, 1)])
         # explanatory frame axioms (exact because at most one action runs per step)
         for p in range(self.n_atoms):
             up, keep = (_X1, p + 1, 1), (_X0, p + 1, 1)
@@ -297,7 +330,7 @@ class FamilyEncoding:
             for j, gs in js:
                 put([(_A, j + 1, -1), *gs, up, (_X0, p + 1, -1)])
         # unary cost units are monotone: unit k+1 implies unit k
-        for k in range(1, self.max_units):
+        for k in range(1, 0 if self.binary else self.max_units):
             cl.append([(_U, k + 1, -1), (_U, k, 1)])
         return cl
 
@@ -370,9 +403,9 @@ class FamilyEncoding:
         for c in self.copies:
             x1 = self._alloc(self.n_atoms)
             self.x_base[c].append(x1)
-            u_base = self._alloc(self.max_units)
+            u_base = self._alloc(self._step_vars)
             self.u_base[c].append(u_base)
-            new_units[c] = [u_base + k for k in range(1, self.max_units + 1)]
+            new_units[c] = [] if self.binary else [u_base + k for k in range(1, self.max_units + 1)]
             bases = (0, a_base, self.x_base[c][t], x1, u_base)
             # the bulk of every step, resolved inline: without a call per literal and per
             # clause, barman-bar/p3's 18 robot steps take 0.14 s to build instead of 0.26 s
@@ -380,7 +413,11 @@ class FamilyEncoding:
             for clause in template:
                 sink([sign * (bases[kind] + off) for kind, off, sign in clause])
             self.n_clauses += len(template)
-            if self._min_units[c] > 0:
+            if self.binary:
+                bits = [u_base + b + 1 for b in range(self.cost_bits)]
+                width = ((t + 1) * self.max_units).bit_length()
+                self.sum_bits[c].append(self._add_binary(self.sum_bits[c][t], bits, width))
+            elif self._min_units[c] > 0:
                 self._emit([-act, u_base + self._min_units[c]])
             inv = self.invariants.get(c)
             if inv is not None:
@@ -473,6 +510,64 @@ class FamilyEncoding:
             needed |= keys
         self._role_members = {k: sorted(members[k]) for k in sorted(needed)}
 
+    def _add_binary(self, xs: list[int], ys: list[int], width: int) -> list[int]:
+        """Bits of ``xs + ys`` (least significant first) by a ripple-carry adder, exact both
+        ways, truncated to ``width`` bits with every bit above forced false.
+
+        Forcing the overflow false removes no model in which the step costs are exact (their
+        sum is below ``2**width``), and in every other model the truncated bits are the true
+        sum of the per-step upper bounds, so the sum never wraps around below a plan's cost."""
+        out: list[int] = []
+        carry: list[int] = []
+        for i in range(max(len(xs), len(ys)) + 1):
+            ins = [bits[i] for bits in (xs, ys) if i < len(bits)] + carry
+            if not ins:
+                break
+            carry = []
+            if len(ins) == 1:
+                bit = ins[0]
+            else:
+                bit = self._alloc(1) + 1
+                cout = self._alloc(1) + 1
+                carry = [cout]
+                a, b = ins[0], ins[1]
+                if len(ins) == 2:  # half adder: bit = a xor b, cout = a and b
+                    for clause in (
+                        [-a, -b, -bit], [a, b, -bit], [-a, b, bit], [a, -b, bit],
+                        [-cout, a], [-cout, b], [-a, -b, cout],
+                    ):  # fmt: skip
+                        self._emit(clause)
+                else:  # full adder: bit = a xor b xor d, cout = majority(a, b, d)
+                    d = ins[2]
+                    for sa in (1, -1):
+                        for sb in (1, -1):
+                            for sd in (1, -1):
+                                odd = ((sa > 0) + (sb > 0) + (sd > 0)) % 2 == 1
+                                self._emit([-sa * a, -sb * b, -sd * d, bit if odd else -bit])
+                    for clause in (
+                        [-a, -b, cout], [-a, -d, cout], [-b, -d, cout],
+                        [a, b, -cout], [a, d, -cout], [b, d, -cout],
+                    ):  # fmt: skip
+                        self._emit(clause)
+            if i < width:
+                out.append(bit)
+            else:
+                self._emit([-bit])
+        for c in carry:
+            self._emit([-c])
+        return out
+
+    def _at_most(self, bits: list[int], bound: int) -> int:
+        """A fresh literal that implies "the binary number ``bits`` is at most ``bound``":
+        for every 0-bit ``i`` of ``bound``, not (bit ``i`` and every higher bit that is 1 in
+        ``bound``); the highest bit where the number and ``bound`` differ is such a clause."""
+        g = self._alloc(1) + 1
+        for i, bit in enumerate(bits):
+            if not bound >> i & 1:
+                higher = [-bits[j] for j in range(i + 1, len(bits)) if bound >> j & 1]
+                self._emit([-g, -bit, *higher])
+        return g
+
     def _take_totalizer_clauses(self, tot: ITotalizer, count: int) -> None:
         if count:
             for clause in tot.cnf.clauses[-count:]:
@@ -530,11 +625,23 @@ class FamilyEncoding:
         if bound < 0:
             return None
         b = bound // self.cost_unit
+        if b >= horizon * self.max_units:
+            return []  # cannot bite (goal_assumptions(horizon) idles the later steps)
+        if self.binary:
+            # the sum of steps 0..horizon-1: the later steps are idle, and the literal stays
+            # valid when the encoding grows
+            key = (copy, horizon, b)
+            g = self._cmp.get(key)
+            if g is None:
+                t0 = time.perf_counter()
+                g = self._cmp[key] = self._at_most(self.sum_bits[copy][horizon], b)
+                self.grow_s += time.perf_counter() - t0
+            return [g]
         units = [
             self.u(copy, t, k) for t in range(self.horizon) for k in range(1, self.max_units + 1)
         ]
-        if b >= len(units) or b >= horizon * self.max_units:
-            return []  # cannot bite (goal_assumptions(horizon) idles the later steps)
+        if b >= len(units):
+            return []
         tot = self._tot[copy]
         t0 = time.perf_counter()
         if tot is None:
@@ -579,12 +686,22 @@ class FamilyEncoding:
                 for p in range(self.n_atoms):
                     out[self.x(c, t, p)] = f"x[{c}][{t}]{fam.atom_name(p)}"
             for t in range(self.horizon):
-                for k in range(1, self.max_units + 1):
-                    out[self.u(c, t, k)] = f"u[{c}][{t}][{k}]"
+                if self.binary:
+                    for b in range(self.cost_bits):
+                        out[self.u(c, t, b + 1)] = f"w[{c}][{t}][{b}]"
+                else:
+                    for k in range(1, self.max_units + 1):
+                        out[self.u(c, t, k)] = f"u[{c}][{t}][{k}]"
+            if self.binary:
+                for t, bits in enumerate(self.sum_bits[c]):
+                    for b, v in enumerate(bits):
+                        out.setdefault(v, f"sum[{c}][{t}][{b}]")
             tot = self._tot[c]
             if tot is not None:
                 for b, v in enumerate(tot.rhs):
                     out[v] = f"cost[{c}]>={(b + 1) * self.cost_unit}"
+        for (c, h, b), g in self._cmp.items():
+            out[g] = f"cost[{c}][{h}]<={b * self.cost_unit}"
         for h, g in self.goal_act.items():
             out[g] = f"goal[{h}]"
         return out

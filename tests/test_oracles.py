@@ -37,8 +37,8 @@ def check_opt(fam: GroundFamily, orc: SatOracles, sel: frozenset[int]) -> OptRes
 
 @pytest.mark.parametrize(
     "options",
-    [{}, {"step_first": False}, {"symmetry_breaking": False}],
-    ids=["step-queries", "cost-only", "step-queries-no-symmetry-breaking"],
+    [{}, {"step_first": False}, {"symmetry_breaking": False}, {"unary_max_units": 0}],
+    ids=["step-queries", "cost-only", "step-queries-no-symmetry-breaking", "binary-costs"],
 )
 @SETTINGS
 @given(fam=families(), data=st.data())
@@ -77,11 +77,12 @@ def test_opt_zero_cost_never_claims_a_false_proof(fam: GroundFamily, data):
             assert "zero-cost" in r.reason
 
 
+@pytest.mark.parametrize("options", [{}, {"unary_max_units": 0}], ids=["unary", "binary"])
 @SETTINGS
 @given(fam=families(max_atoms=3, max_actions=5, max_updates=4), data=st.data())
-def test_joint_matches_paired_search_and_cores_are_sound(fam: GroundFamily, data):
+def test_joint_matches_paired_search_and_cores_are_sound(options, fam: GroundFamily, data):
     robot = fam.specialize(fam.robot_selection)
-    with SatOracles(fam) as orc:
+    with SatOracles(fam, **options) as orc:
         for _ in range(2):
             sel = data.draw(selections(fam.n_updates))
             hb = data.draw(st.integers(0, 7))

@@ -43,10 +43,15 @@ def cheapest_within(task: GroundTask, h: int) -> int | None:
     return None
 
 
-VARIANTS = [dict(), dict(symmetry_breaking=False), dict(partial_order=True)]
+VARIANTS = [
+    dict(),
+    dict(symmetry_breaking=False),
+    dict(partial_order=True),
+    dict(unary_max_units=0),  # binary cost sums and comparators on small costs
+]
 
 
-@pytest.mark.parametrize("variant", VARIANTS, ids=["default", "no-symmetry", "por"])
+@pytest.mark.parametrize("variant", VARIANTS, ids=["default", "no-symmetry", "por", "binary"])
 @SETTINGS
 @given(fam=families(min_cost=0), data=st.data())
 def test_sat_iff_bounded_plan(variant, fam: GroundFamily, data):
