@@ -289,6 +289,7 @@ class SatOracles:
         # (K, core): no selection agreeing with core has a plan of human cost <= K
         self._cost_cores: list[tuple[int, frozenset[GuardLit]]] = []
         self._robot_lb: int | None = None
+        self._searcher = None  # explicit paired-state search, for JOINT past the horizon cap
         self._tasks: dict[frozenset[int], GroundTask] = {}
         # per-copy minimum action costs for the JOINT horizon: the robot copy always runs in
         # the robot model; the human copy's must hold for every selection (cores generalize)
@@ -678,6 +679,16 @@ class SatOracles:
             if best <= lb_cost:
                 return done("optimal", best, plan, True, why_lb)
             h, exact, reason = self._opt_horizon(sel, best - 1, at_least=len(plan))
+            if not exact and self.c_min > 0:
+                # the horizon cap (large costs over a small cheapest one): first make the
+                # extra cost exact, which may shorten the horizon below the cap; else an
+                # explicit search is the proof, and SAT at the cap only the best effort
+                if sel not in self._opt_extra_searched:
+                    plan, best = self._cheaper(task, self._tighten_extra(sel), plan, best)
+                    continue
+                got = self._opt_by_search(task, reason)
+                if got is not None:
+                    return done("optimal", got[1], got[0], True, got[2])
             if exact and h < min_len:
                 why = (
                     f"proven by SAT: no plan has fewer than {min_len} steps, and cost "
@@ -720,6 +731,28 @@ class SatOracles:
             assert cost is not None and cost < best, "decoded plan invalid or not cheaper"
             plan, best = reduce_plan(task, plan)
             shortest = min(shortest, len(plan))
+
+    def _opt_by_search(
+        self, task: GroundTask, reason: str
+    ) -> tuple[tuple[PlanStep, ...], int, str] | None:
+        """``(plan, cost, reason)`` of an optimal plan by explicit-state search (within
+        ``fallback_node_limit`` expansions), for OPT when the horizon that would make a SAT
+        answer a proof is above the cap; ``None`` if the search gave up.  Once per selection
+        (OPT answers are cached)."""
+        from mega_sat.search import astar
+
+        left = self._time_left()
+        if left is not None and left <= 0:
+            raise OracleInterrupted("deadline reached")
+        t0 = time.perf_counter()
+        r = astar(task, heuristic="blind", node_limit=self.fallback_node_limit, time_limit=left)
+        self._add_seconds("sat_search_time_s", t0)
+        if r.status == "timeout" and left is not None and self._time_left() <= 0:
+            raise OracleInterrupted("deadline reached")  # proves nothing; not cached
+        if r.status != "optimal" or ground_plan_cost(task, r.plan) != r.cost:
+            return None
+        self.stats["sat_opt_by_search"] = self.stats.get("sat_opt_by_search", 0) + 1
+        return tuple(r.plan), int(r.cost), reason + "; solved by explicit-state search"
 
     @staticmethod
     def _cheaper(task: GroundTask, found, plan, best):
@@ -908,7 +941,11 @@ class SatOracles:
                     "this cheap", 0,
                 )  # fmt: skip
         enc = self.opt_enc
-        base = enc.cost_assumptions(HUMAN, robot_bound, h) + enc.goal_assumptions(h)
+        # SAT trials need the horizon to be a proof; past the cap only counting trials run,
+        # and the encoding is not grown to the cap for nothing
+        base = []
+        if exact:
+            base = enc.cost_assumptions(HUMAN, robot_bound, h) + enc.goal_assumptions(h)
         left = self.dominance_conflict_budget
         if conflict_budget is not None:
             left = min(left, conflict_budget)
@@ -1084,6 +1121,8 @@ class SatOracles:
                 core=frozenset(),
                 why=f"robot cost bound {robot_bound} < robot lower bound {rlb}",
             )
+        if not exact and self.c_min > 0 and sel is not None:
+            return self._joint_by_search(sel, robot_bound, human_bound, reason, t0)
         sel_lits = enc.lits_assumptions(lits)
         robot_task = self.task(self.family.robot_selection)
         best = None if sel is None else self._best_hint(hints, sel, robot_bound, human_bound, h)
@@ -1139,6 +1178,33 @@ class SatOracles:
             h = h2
             plan, rc, hc, sel = self._decode_joint(solver.get_model(), h, robot_task)
             assert robot_bound is None or rc <= robot_bound
+
+    def _joint_by_search(
+        self,
+        sel: frozenset[int],
+        robot_bound: int | None,
+        human_bound: int,
+        reason: str,
+        t0: float,
+    ) -> JointResult:
+        """JOINT by the explicit paired-state search (:func:`mega_sat.joint_search.search_joint`,
+        cores proven on abstractions) when the horizon that would make SAT exact is above the
+        cap: with large costs over a small cheapest one, ``floor(c / c_min)`` steps can be any
+        number, while the search's work does not grow with the cost values."""
+        from dataclasses import replace
+
+        from mega_sat.joint_search import JointSearcher, search_joint
+
+        self._check_interrupt()
+        if self._searcher is None:
+            self._searcher = JointSearcher(self.task(self.family.robot_selection))
+        r = search_joint(
+            self._searcher, self.family, sel, robot_bound, human_bound, deadline=self._deadline
+        )
+        if r is None:
+            raise OracleInterrupted("deadline reached")  # proves nothing
+        self.stats["sat_joint_by_search"] = self.stats.get("sat_joint_by_search", 0) + 1
+        return replace(r, reason=f"{reason}; {r.reason}", time_s=self._finish("joint", t0))
 
     def _decode_joint(self, model, h: int, robot_task: GroundTask):
         enc = self.joint_enc

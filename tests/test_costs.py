@@ -3,7 +3,7 @@ the answers stay exact.
 
 The SAT encoding counts costs in unary while they are small and in binary above
 ``UNARY_MAX_UNITS`` (``encodings/sequential.md``); these tests run the binary form against
-explicit-state search on random families.
+explicit-state search on random families and the whole engine against the brute-force oracle.
 Every test that could hang or run out of memory runs under a time and an address-space limit,
 so a regression fails instead of taking the machine down (in-process, a C extension that runs
 out of address space aborts the test run, which fails it as well).
@@ -12,9 +12,14 @@ out of address space aborts the test run, which fails it as well).
 from __future__ import annotations
 
 import contextlib
+import heapq
+import itertools
 import json
 import resource
 import signal
+import subprocess
+import sys
+import time
 from dataclasses import replace
 
 import pytest
@@ -71,6 +76,45 @@ def large_cost_families(draw, **kw) -> GroundFamily:
         replace(a, cost=tuple((guards, draw(value)) for guards, _ in a.cost)) for a in fam.actions
     )
     return replace(fam, actions=acts)
+
+
+def joint_pareto(
+    fam: GroundFamily, sel: frozenset[int], robot_bound: int | None, human_bound: int
+) -> int | None:
+    """Minimum robot cost of a plan valid in the robot model and in ``human + sel`` within both
+    bounds (None: none), by search over paired states with a Pareto set of (robot cost, human
+    cost) labels each: unlike ``sat_families.joint_brute`` its states do not carry the human
+    cost, so large bounds do not blow it up.  Positive costs: the first goal label popped is
+    the answer."""
+    rt, ht = fam.specialize(fam.robot_selection), fam.specialize(sel)
+    r_by = {a.index: a for a in rt.actions}
+    h_by = {a.index: a for a in ht.actions}
+    common = sorted(set(r_by) & set(h_by))
+    start = (frozenset(rt.init), frozenset(ht.init))
+    labels: dict[tuple, list[tuple[int, int]]] = {start: [(0, 0)]}
+    heap = [(0, 0, 0, start)]
+    tie = itertools.count()
+    while heap:
+        rc, hc, _, node = heapq.heappop(heap)
+        if (rc, hc) not in labels[node]:
+            continue  # dominated since it was pushed
+        rs, hs = node
+        if rt.goal <= rs and ht.goal <= hs:
+            return rc
+        for j in common:
+            ra, ha = r_by[j], h_by[j]
+            if not (ra.pre <= rs and not ra.negpre & rs and ha.pre <= hs and not ha.negpre & hs):
+                continue
+            rc2, hc2 = rc + ra.cost, hc + ha.cost
+            if hc2 > human_bound or (robot_bound is not None and rc2 > robot_bound):
+                continue
+            n2 = ((rs - ra.delete) | ra.add, (hs - ha.delete) | ha.add)
+            old = labels.setdefault(n2, [])
+            if any(r <= rc2 and h <= hc2 for r, h in old):
+                continue
+            old[:] = [(r, h) for r, h in old if not (rc2 <= r and hc2 <= h)] + [(rc2, hc2)]
+            heapq.heappush(heap, (rc2, hc2, next(tie), n2))
+    return None
 
 
 # ------------------------------------------------------------------------ the encoding alone
@@ -181,6 +225,77 @@ def test_opt_with_large_costs_matches_astar(fam: GroundFamily, data):
                 assert plan_cost(task, r.plan) == r.cost
 
 
+def _there_and_back(n: int, jump: int) -> GroundFamily:
+    """Walk p0 -> ... -> pn (marking ``seen`` on arrival) and back to p0, 2n steps of cost 1,
+    or mark ``seen`` from p0 in one step costing ``jump``.  The delete relaxation sees only
+    the way there, so LM-cut is about n: the known plans do not settle the optimum."""
+    seen = n + 1
+    acts = []
+    for i in range(n):
+        add = ((i + 1, None), (seen, None)) if i == n - 1 else ((i + 1, None),)
+        acts.append(
+            GroundAction(f"fwd{i}", (), None, ((i, None),), (), add, ((i, None),), (((), 1),))
+        )
+        acts.append(
+            GroundAction(f"back{i}", (), None, ((i + 1, None),), (), ((i, None),),
+                         ((i + 1, None),), (((), 1),))
+        )  # fmt: skip
+    acts.append(
+        GroundAction("jump", (), None, ((0, None),), (), ((seen, None),), (), (((), jump),))
+    )
+    atoms = tuple((f"p{i}",) for i in range(n + 1)) + (("seen",),)
+    return GroundFamily(atoms, 0, tuple(acts), ((0, None),), ((0, None), (seen, None)))
+
+
+def test_opt_and_joint_past_the_horizon_cap_are_answered_by_search():
+    """Optimum 202 (101 steps there and back) against one step costing 10^12: proving "no plan
+    of cost <= 201" would take 201 steps, above the cap of 200, and JOINT's human bound of
+    10^12 would take 10^12.  Both are answered by explicit search, exactly, and say so."""
+    fam = _there_and_back(101, 10**12)
+    with bounded(120), SatOracles(fam, operator_counting=False) as orc:
+        r = orc.opt(frozenset())
+        assert r.status == "optimal" and r.cost == 202 and r.exact, r.reason
+        assert "horizon cap" in r.reason and "explicit-state search" in r.reason
+        assert orc.stats["sat_opt_by_search"] == 1
+        j = orc.joint(frozenset(), None, 10**12)
+        assert j.exact and j.status == "plan" and j.robot_cost == 202
+        assert "horizon cap" in j.reason and orc.stats["sat_joint_by_search"] == 1
+
+
+@SETTINGS
+@given(fam=large_cost_families(max_atoms=3, max_actions=5, max_updates=4), data=st.data())
+def test_joint_with_large_costs_matches_paired_search(fam: GroundFamily, data):
+    robot = fam.specialize(fam.robot_selection)
+    with bounded(120), SatOracles(fam) as orc:
+        for _ in range(2):
+            sel = data.draw(selections(fam.n_updates))
+            opt = orc.opt(sel)
+            hb = opt.cost if opt.cost is not None else data.draw(st.integers(0, 10**12))
+            rb = data.draw(st.one_of(st.none(), st.integers(0, 4 * 10**12)))
+            r = orc.joint(sel, rb, hb, hints=(opt.plan,) if opt.plan else ())
+            best = joint_pareto(fam, sel, rb, hb)
+            assert r.exact, r.reason
+            if best is None:
+                assert r.status == "infeasible"
+            else:
+                assert r.status == "plan" and r.robot_cost == best
+                assert plan_cost(robot, r.plan) == r.robot_cost
+                assert plan_cost(fam.specialize(sel), r.plan) == r.human_cost <= hb
+
+
+@SETTINGS
+@given(fam=families(max_atoms=3, max_actions=5, max_updates=4), data=st.data())
+def test_ground_truth_pareto_search_agrees_with_joint_brute(fam: GroundFamily, data):
+    """The ground truth of the JOINT test against ``sat_families.joint_brute`` where both are
+    cheap (a check of the test's own oracle: it passes on any version of the solver)."""
+    from sat_families import joint_brute
+
+    sel = data.draw(selections(fam.n_updates))
+    hb = data.draw(st.integers(0, 7))
+    rb = data.draw(st.one_of(st.none(), st.integers(0, 7)))
+    assert joint_pareto(fam, sel, rb, hb) == joint_brute(fam, sel, rb, hb)
+
+
 @pytest.mark.parametrize("scale", LARGE)
 def test_wcnf_export_weighs_binary_cost_bits(scale, tmp_path):
     """The exported MaxSAT formula's optimum is the optimal cost, with soft clauses weighted
@@ -199,3 +314,111 @@ def test_wcnf_export_weighs_binary_cost_bits(scale, tmp_path):
     meta = json.loads(paths["vars"].read_text())
     assert meta["cost_bits"] > 0 and meta["horizon"] == 200 and not meta["exact"]
     assert "w[human][0][0]" in meta["variables"].values()
+
+
+# ---------------------------------------------------------------------------- the engine
+DOMAIN = """(define (domain usar-fetch)
+  (:requirements :strips :typing :action-costs)
+  (:types waypoint)
+  (:predicates (robot_at ?l - waypoint) (clear_path ?from - waypoint ?to - waypoint)
+               (clearable ?from - waypoint ?to - waypoint) (picture_taken ?l - waypoint))
+  (:functions (total-cost) - number)
+  (:action move
+    :parameters (?from - waypoint ?to - waypoint)
+    :precondition (and (robot_at ?from) (clear_path ?from ?to))
+    :effect (and (not (robot_at ?from)) (robot_at ?to) (increase (total-cost) MOVE)))
+  (:action clear_passage
+    :parameters (?from - waypoint ?to - waypoint)
+    :precondition (and (robot_at ?from) (clearable ?from ?to))
+    :effect (and (not (clearable ?from ?to)) (clear_path ?from ?to)
+                 (increase (total-cost) CLEAR)))
+  (:action take_picture
+    :parameters (?loc - waypoint)
+    :precondition (and (robot_at ?loc))
+    :effect (and (picture_taken ?loc) (increase (total-cost) PICTURE))))
+"""
+PROBLEM = """(define (problem usar-p1) (:domain usar-fetch)
+  (:objects p1 p2 p3 p4 p5 p6 p7 p8 - waypoint)
+  (:init (= (total-cost) 0) (robot_at p1)
+    (clear_path p1 p2) (clear_path p2 p1) (clearable p2 p3) (clear_path p3 p4) (clear_path p4 p3)
+    (clear_path p4 p5) (clear_path p5 p4) (clear_path p1 p6) (clear_path p6 p1)
+    (clear_path p8 p5) (clear_path p5 p8) MAP)
+  (:goal (and (picture_taken p5)))
+  (:metric minimize (total-cost)))
+"""
+ROBOT_MAP = "(clear_path p6 p7) (clear_path p7 p5)"  # walls collapsed; rubble on p1 -> p8
+HUMAN_MAP = "(clear_path p1 p8)"  # the human's outdated map
+
+
+def _domain(move: int, clear: int, picture: int) -> str:
+    return (
+        DOMAIN.replace("MOVE", str(move))
+        .replace("CLEAR", str(clear))
+        .replace("PICTURE", str(picture))
+    )
+
+
+def usar_texts(scale: int, variant: str) -> dict[str, str]:
+    """The paper's USAR example (``domains/usar-fetch/p1``) with large costs.
+
+    ``robot``: clearing debris costs the robot ``scale`` (the human still thinks 3), so the
+    cost is one more update to explain.  ``both``: every cost large and different in both
+    models (move ``scale``, clear ``3 * scale + 1``, picture 1: gcd 1, the cheapest action
+    costs 1, so ``floor(c / c_min)`` is far above the horizon cap)."""
+    if variant == "robot":
+        robot, human = _domain(1, scale, 1), _domain(1, 3, 1)
+    else:
+        robot = human = _domain(scale, 3 * scale + 1, 1)
+    return {
+        "robot-domain.pddl": robot,
+        "human-domain.pddl": human,
+        "robot-problem.pddl": PROBLEM.replace("MAP", ROBOT_MAP),
+        "human-problem.pddl": PROBLEM.replace("MAP", HUMAN_MAP),
+    }
+
+
+def _limit_memory() -> None:
+    resource.setrlimit(resource.RLIMIT_AS, (2 * GIB, 2 * GIB))
+
+
+@pytest.mark.parametrize("variant", ["robot", "both"])
+@pytest.mark.parametrize("scale", LARGE)
+def test_frontier_with_large_costs_in_bounded_time_and_memory(scale, variant, tmp_path):
+    """``mega-sat frontier`` in a subprocess limited to 2 GB of address space and 60 s: the
+    frontier is complete, exact, and that of the brute-force oracle and of the astar engine."""
+    from mega_sat.api import frontier
+    from mega_sat.bruteforce import brute_force_frontier
+    from mega_sat.grounding import ground
+    from mega_sat.loading import load_task_from_strings
+
+    texts = usar_texts(scale, variant)
+    for name, text in texts.items():
+        (tmp_path / name).write_text(text)
+    cli = "import sys; sys.argv[0] = 'mega-sat'; from mega_sat.cli import main; main()"
+    t0 = time.perf_counter()
+    res = subprocess.run(
+        [sys.executable, "-c", cli, "frontier", "--task", str(tmp_path), "--json"],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        preexec_fn=_limit_memory,
+    )
+    took = time.perf_counter() - t0
+    assert res.returncode == 0, res.stderr[-2000:]
+    got = json.loads(res.stdout)
+    assert got["exact"] and got["complete"], got["notes"]
+    pairs = [(len(p["explanation"]), p["robot_cost"]) for p in got["frontier"]]
+
+    task = load_task_from_strings(
+        texts["robot-domain.pddl"],
+        texts["robot-problem.pddl"],
+        texts["human-domain.pddl"],
+        texts["human-problem.pddl"],
+    )
+    c_robot, points, _ = brute_force_frontier(task, ground(task))
+    assert got["robot_optimal_cost"] == c_robot
+    assert pairs == [(p.size, p.robot_cost) for p in points]
+    astar = frontier(task, engine="astar")
+    assert astar.robot_optimal_cost == c_robot
+    assert [(p.size, p.robot_cost) for p in astar.points] == pairs
+    assert took < 60

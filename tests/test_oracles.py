@@ -123,8 +123,15 @@ def test_horizon_cap_is_reported_not_hidden():
         # the SAT search cannot reach 8 steps; the explicit-search fallback decides exactly
         assert r.status == "optimal" and r.cost == 8 and r.exact
         assert "horizon cap" in r.reason
+        # JOINT past the cap: the explicit paired search answers, exactly, and says so
         j = orc.joint(frozenset(), None, 8)
-        assert not j.exact and "horizon cap" in j.reason
+        assert j.exact and j.status == "plan" and j.robot_cost == 8
+        assert "horizon cap" in j.reason and "explicit search" in j.reason
+        assert orc.stats["sat_joint_by_search"] == 1
+        assert orc.joint(frozenset(), None, 7).core == frozenset()
+        # on a partial assignment there is no search: SAT at the cap, marked not exact
+        part = orc.joint_lits([], None, 8)
+        assert not part.exact and "horizon cap" in part.reason
     with SatOracles(fam, horizon_cap=4, fallback_node_limit=2) as orc:
         r = orc.opt(frozenset())
         assert r.status == "unknown" and not r.exact
