@@ -21,6 +21,11 @@ The task must have positive preconditions only (the two-fact abstraction of
 abstract plan of no greater cost, the bound of an abstraction holds for all of them, which is
 what makes it usable for JOINT's cores.  The integer program is solved by CBC through PuLP;
 only a solution CBC reports as optimal gives a bound (a time-out gives none).
+
+Large costs are scaled down before CBC sees them (:data:`MAX_SOLVER_COST`): PuLP writes the
+problem with 13 significant digits, so 10^13 + 1 and 10^13 + 3 both reach CBC as 10^13, and CBC
+may then count the dearer action, whose true cost is a "bound" above the optimum; CBC's
+tolerances are absolute as well, and large coefficients magnify them.
 """
 
 from __future__ import annotations
@@ -32,6 +37,24 @@ from mega_sat.family import GroundTask
 from mega_sat.pair_reachability import pair_masks
 
 Row = tuple[list[int], list[int], list[int], list[int], int, int]
+
+MAX_SOLVER_COST = 1000
+"""Largest action cost given to CBC.  Above it, costs are divided by their gcd, and if still
+too large, replaced by ``floor(cost / s)`` with ``s = ceil(max cost / MAX_SOLVER_COST)``; the
+bound is ``s`` times the scaled optimum.  Every plan costs at least ``s`` times its scaled
+cost, so the bound stays a lower bound (only weaker); on costs up to this value nothing
+changes."""
+
+
+def _scaled_costs(costs: list[int]) -> tuple[list[int], int]:
+    """``(scaled costs, s)`` with ``s * scaled <= cost`` for each (see :data:`MAX_SOLVER_COST`)."""
+    top = max(costs, default=0)
+    if top <= MAX_SOLVER_COST:
+        return costs, 1
+    s = math.gcd(*costs)
+    if top // s > MAX_SOLVER_COST:
+        s = -(-top // MAX_SOLVER_COST)
+    return [c // s for c in costs], s
 
 
 def state_equation_rows(task: GroundTask) -> list[Row]:
@@ -88,7 +111,8 @@ def operator_counting_bound(task: GroundTask, *, time_limit: float = 2.0) -> flo
         warnings.simplefilter("ignore", DeprecationWarning)
         prob = pulp.LpProblem("operator_counting", pulp.LpMinimize)
         y = [pulp.LpVariable(f"y{j}", lowBound=0, cat="Integer") for j in range(len(task.actions))]
-        prob += pulp.lpSum(a.cost * y[j] for j, a in enumerate(task.actions))
+        costs, scale = _scaled_costs([a.cost for a in task.actions])
+        prob += pulp.lpSum(c * y[j] for j, c in enumerate(costs))
         for cut in cuts:
             prob += pulp.lpSum(y[j] for j in cut) >= 1
         for always_p, some_p, always_c, some_c, lower, upper in state_equation_rows(task):
@@ -108,4 +132,4 @@ def operator_counting_bound(task: GroundTask, *, time_limit: float = 2.0) -> flo
         return None
     value = pulp.value(prob.objective)
     # costs are integers: the optimum is an integer up to CBC's tolerances
-    return max(0, math.ceil((value or 0) - 1e-6))
+    return scale * max(0, math.ceil((value or 0) - 1e-6))

@@ -316,6 +316,23 @@ def test_wcnf_export_weighs_binary_cost_bits(scale, tmp_path):
     assert "w[human][0][0]" in meta["variables"].values()
 
 
+def test_operator_counting_bound_stays_below_costs_beyond_the_lp_file_precision():
+    """PuLP hands CBC the costs with 13 significant digits: 10^13 + 3 and 10^13 + 1 both
+    become 10^13, CBC may count the dearer action, and its cost is then a "bound" above the
+    optimum.  Scaled costs keep the bound below it."""
+    from mega_sat.family import GroundTask, StripsAction
+    from mega_sat.operator_counting import operator_counting_bound
+
+    for costs in ([10**13 + 3, 10**13 + 1], [10**15 + 7, 10**15 + 1, 10**15 + 4]):
+        acts = tuple(
+            StripsAction(i, f"a{i}", (), frozenset(), frozenset(), frozenset({0}), frozenset(), c)
+            for i, c in enumerate(costs)
+        )
+        task = GroundTask((("g",),), acts, frozenset(), frozenset({0}))
+        bound = operator_counting_bound(task)
+        assert bound is not None and bound <= min(costs)
+
+
 # ---------------------------------------------------------------------------- the engine
 DOMAIN = """(define (domain usar-fetch)
   (:requirements :strips :typing :action-costs)
