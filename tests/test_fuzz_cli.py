@@ -1,0 +1,129 @@
+"""Fuzzing the command line and the library API with misuse: every case ends in an answer or in
+one ``error:`` line with a documented exit code (docs/cli.md), never a traceback or a hang.
+
+Budget as in ``tests/fuzzing.py`` (small and seeded; ``--fuzz-long`` for release checks).
+"""
+
+from __future__ import annotations
+
+import shlex
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+from fuzzing import FUZZ
+from hypothesis import given
+from hypothesis import strategies as st
+
+from mega_sat import errors
+from mega_sat.cli import main
+
+ROOT = Path(__file__).resolve().parent.parent
+EXIT_CODES = set(errors.EXIT_CODES)
+"""docs/cli.md's table (a test in test_runlimits.py keeps the two equal)."""
+
+COMMANDS = ["diff", "apply", "plan", "validate", "encode", "solve", "frontier", "explain", "verify"]
+TASKS = ["domains/usar-fetch/p1", "docs/examples/courier/p1", "domains/nowhere", "README.md", ""]
+NUMBERS = ["0", "-1", "1", "0.1", "nan", "inf", "-inf", "1e308", "1e400", "abc", "", "0x10", "2"]
+
+
+@pytest.fixture(scope="module")
+def files(tmp_path_factory) -> dict[str, str]:
+    d = tmp_path_factory.mktemp("fuzz-cli")
+    (d / "binary.bin").write_bytes(bytes(range(256)))
+    (d / "bom.txt").write_bytes(b"\xef\xbb\xbfadd-has-initial-state-clear_path p6 p7\n")
+    (d / "plan.ipc").write_text("(move p1 p6)\n(move p6 p7)\n(move p7 p5)\n(take_picture p5)\n")
+    (d / "garbage.txt").write_text("((( not a plan\n")
+    (d / "empty.txt").write_text("")
+    (d / "folder").mkdir()
+    return {
+        "binary": str(d / "binary.bin"),
+        "bom": str(d / "bom.txt"),
+        "plan": str(d / "plan.ipc"),
+        "garbage": str(d / "garbage.txt"),
+        "empty": str(d / "empty.txt"),
+        "folder": str(d / "folder"),
+        "missing": str(d / "missing.txt"),
+        "out": str(d / "out"),
+    }
+
+
+@st.composite
+def command_lines(draw, files: dict[str, str]) -> list[str]:
+    cmd = draw(st.sampled_from(COMMANDS + ["bogus", "--bogus", ""]))
+    args = [cmd] if cmd else []
+    pool = list(files.values())
+    options = [
+        ("--task", st.sampled_from(TASKS)),
+        ("--alpha", st.sampled_from(NUMBERS)),
+        ("--timeout", st.sampled_from(NUMBERS)),
+        ("--explanation", st.sampled_from(pool)),
+        ("--plan", st.sampled_from(pool)),
+        ("--engine", st.sampled_from(["sat", "astar", "bogus", ""])),
+        ("--planner", st.sampled_from(["builtin", "sat", "bogus"])),
+        ("--hitting-set", st.sampled_from(["rc2", "ilp", "x"])),
+        ("--robot-domain", st.sampled_from(pool + ["domains/usar-fetch/robot-domain.pddl"])),
+        ("--out", st.sampled_from([files["out"], files["folder"], files["binary"]])),
+        ("--json", st.none()),
+        ("--force", st.none()),
+        ("--model", st.sampled_from(["robot", "human", "martian"])),
+        ("--kind", st.sampled_from(["opt", "joint", "both"])),
+        ("--robot-bound", st.sampled_from(NUMBERS)),
+        ("--nonsense", st.none()),
+    ]
+    for name, values in draw(st.lists(st.sampled_from(options), max_size=5, unique=True)):
+        args.append(name)
+        value = draw(values)
+        if value is not None:
+            args.append(value)
+    if cmd in ("solve", "frontier", "explain") and "--timeout" not in args:
+        args += ["--timeout", "5"]  # misuse must not turn into a long run
+    return args
+
+
+def _runner() -> CliRunner:
+    """A runner that keeps stderr apart (click < 8.2 needs ``mix_stderr=False``)."""
+    try:
+        return CliRunner(mix_stderr=False)  # type: ignore[call-arg]
+    except TypeError:
+        return CliRunner()
+
+
+def _check(args: list[str], result) -> None:
+    shown = "mega-sat " + shlex.join(args)
+    assert result.exception is None or isinstance(result.exception, SystemExit), (
+        f"{shown}: {type(result.exception).__name__}: {result.exception}"
+    )
+    assert result.exit_code in EXIT_CODES, f"{shown}: exit {result.exit_code}"
+    err = [line for line in result.stderr.splitlines() if not line.startswith(("warning:", ";"))]
+    assert "Traceback" not in result.stderr, shown
+    if result.exit_code not in (0, 1):
+        assert len(err) == 1 and err[0].startswith("error: "), f"{shown}: {result.stderr!r}"
+
+
+@FUZZ
+@given(data=st.data())
+def test_random_command_lines(data, files):
+    args = data.draw(command_lines(files))
+    result = _runner().invoke(main, args, catch_exceptions=True)
+    if args and args[0] not in ("", "bogus", "--bogus") and args != [args[0]]:
+        _check(args, result)
+    else:
+        assert result.exit_code in EXIT_CODES, args
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["bogus"],
+        ["solve", "--task", "domains/usar-fetch/p1", "--alpha", "0.1", "--timeout", "abc"],
+        ["diff", "--task", "domains/usar-fetch/p1", "--nonsense"],
+        ["plan", "--task", "domains/usar-fetch/p1", "--model", "martian"],
+        ["validate", "--task", "domains/usar-fetch/p1", "--plan", "README.md/x"],
+    ],
+)
+def test_usage_errors_are_one_line(args):
+    result = _runner().invoke(main, args)
+    assert result.exit_code == 2
+    lines = result.stderr.splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: "), result.stderr
