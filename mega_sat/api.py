@@ -23,7 +23,8 @@ from functools import cached_property
 from mega_sat.deadline import Deadline
 from mega_sat.errors import UsageError
 from mega_sat.family import GroundFamily, PlanStep
-from mega_sat.loading import load_task, load_task_from_strings
+from mega_sat.loading import load_task, load_task_dir, load_task_from_strings
+from mega_sat.planio import as_plan
 from mega_sat.progress import Progress
 from mega_sat.results import Explanation, Frontier, FrontierPoint, Solution, choose
 from mega_sat.sat_engine import default_joint, default_planner
@@ -40,10 +41,23 @@ __all__ = [
     "explain",
     "frontier",
     "load_task",
+    "load_task_dir",
     "load_task_from_strings",
     "solve",
     "verify",
 ]
+
+
+PLANNERS = ("builtin", "sat", "fd")
+
+
+def _sat_solver_names() -> tuple[str, ...]:
+    """The SAT solvers python-sat offers by name (``cadical195``, ``glucose4``, ...)."""
+    from pysat.solvers import SolverNames
+
+    return tuple(
+        sorted(n for names in vars(SolverNames).values() if isinstance(names, tuple) for n in names)
+    )
 
 
 def _check_alpha(alpha: float) -> float:
@@ -91,8 +105,19 @@ class MegaSolver:
         joint: str | None = None,
         deadline: Deadline | None = None,
     ):
+        if not isinstance(task, TwoModelTask):
+            raise UsageError(
+                f"MegaSolver needs a TwoModelTask (from load_task, load_task_dir or "
+                f"load_task_from_strings), got {type(task).__name__}"
+            )
         if engine not in ENGINES:
             raise UsageError(f"unknown engine {engine!r} (choose from {', '.join(ENGINES)})")
+        if planner is not None and planner not in PLANNERS:
+            raise UsageError(f"unknown planner {planner!r} (choose from {', '.join(PLANNERS)})")
+        if not isinstance(solver, str) or solver not in _sat_solver_names():
+            raise UsageError(
+                f"unknown SAT solver {solver!r} (choose from {', '.join(_sat_solver_names())})"
+            )
         if hitting_set not in ("rc2", "ilp"):
             raise UsageError(f"unknown hitting-set solver {hitting_set!r} (choose rc2 or ilp)")
         if deadline is None:
@@ -228,7 +253,7 @@ class MegaSolver:
         return minimal_explanation(
             self.task,
             self.family,
-            plan,
+            None if plan is None else as_plan(plan),
             planner=planner,
             hitting_set=self.hitting_set,
             oracles=self.oracles if planner == "sat" else None,
@@ -246,11 +271,17 @@ class MegaSolver:
     ) -> VerifyReport:
         """Check a pair: a frontier point / MCE, or explanation names plus a plan."""
         if point is not None:
+            if not isinstance(point, FrontierPoint | Explanation):
+                raise UsageError(
+                    "verify takes a FrontierPoint or an Explanation (or explanation= and "
+                    f"plan=), got {type(point).__name__}"
+                )
             sel, plan = point.selection, point.plan
             rc, hc = point.robot_cost, point.human_cost
         else:
             if plan is None:
                 raise UsageError("verify needs a plan")
+            plan = as_plan(plan)
             sel = self.task.selection_from_names(explanation or [])
             rc = hc = None
         prod = producer or self.planner

@@ -136,6 +136,11 @@ class TwoModelTask:
         """Turn ``add-...``/``remove-...`` lines into a selection; unknown lines are an error."""
         if isinstance(names, str):
             names = names.splitlines()
+        elif isinstance(names, bytes) or not isinstance(names, Iterable):
+            raise UsageError(
+                f"an explanation is update names (lines of text), got {type(names).__name__}",
+                path=path,
+            )
         out = set()
         for lineno, raw in enumerate(names, 1):
             if not isinstance(raw, str):
@@ -166,8 +171,10 @@ class TwoModelTask:
     def check_selection(self, selection: Iterable[int]) -> Selection:
         """``selection`` as a frozenset of valid indices into ``delta``; anything else (an index
         out of range, a negative one, a name) is a :class:`UsageError`."""
-        if isinstance(selection, str | bytes):
-            raise UsageError("a selection is a set of update indices, got a string")
+        if isinstance(selection, str | bytes) or not isinstance(selection, Iterable):
+            raise UsageError(
+                f"a selection is a set of update indices, got {type(selection).__name__}"
+            )
         out = set()
         for i in selection:
             if isinstance(i, bool) or not isinstance(i, int):

@@ -127,3 +127,45 @@ def test_usage_errors_are_one_line(args):
     assert result.exit_code == 2
     lines = result.stderr.splitlines()
     assert len(lines) == 1 and lines[0].startswith("error: "), result.stderr
+
+
+VALUES = [None, 0, -1, 0.1, float("nan"), float("inf"), "5", "abc", "", b"x", [], {}, object(),
+          ("MOVE", "P1", "P6"), [("move", "p1", "p6")], "(move p1 p6)", {99}, frozenset({-1})]  # fmt: skip
+
+
+@pytest.fixture(scope="module")
+def usar():
+    from mega_sat.loading import load_task_dir
+
+    return load_task_dir(ROOT / "domains/usar-fetch/p1")
+
+
+@FUZZ
+@given(data=st.data())
+def test_random_api_misuse(data, usar):
+    """Random argument values for the public API: an answer or a MegaSatError, nothing else."""
+    from mega_sat import api
+    from mega_sat.errors import MegaSatError
+
+    value = data.draw(st.sampled_from(VALUES))
+    task = data.draw(st.sampled_from([usar, None, "domains/usar-fetch/p1"]))
+    calls = {
+        "solver": lambda: api.MegaSolver(task, timeout=5),
+        "engine": lambda: api.MegaSolver(task, engine=value),
+        "planner": lambda: api.MegaSolver(task, planner=value),
+        "solver_name": lambda: api.MegaSolver(task, solver=value),
+        "hitting_set": lambda: api.MegaSolver(task, hitting_set=value),
+        "timeout": lambda: api.MegaSolver(task, timeout=value),
+        "alpha": lambda: api.solve(task, value, timeout=5),
+        "explain": lambda: api.explain(task, value, timeout=5),
+        "verify": lambda: api.verify(task, value),
+        "verify_plan": lambda: api.verify(task, explanation=value, plan=[("move", "p1", "p6")]),
+        "names": lambda: usar.names(value),
+        "load": lambda: api.load_task(value, value, value),
+        "strings": lambda: api.load_task_from_strings(value, value, value),
+    }
+    name = data.draw(st.sampled_from(sorted(calls)))
+    try:
+        calls[name]()
+    except MegaSatError as e:
+        assert str(e).startswith("error: ") and "\n" not in str(e), (name, value, str(e))
