@@ -528,8 +528,11 @@ def plan(run, domain, problem, model, explanation, planner, out, force, as_json,
     """Optimal plan of one model (IPC plan format)."""
     from mega_sat.errors import PlannerError, UnsolvableError
     from mega_sat.node_planner import NodePlanner
+    from mega_sat.output import check_target
     from mega_sat.planio import format_plan, write_plan
 
+    if out:
+        check_target(out, force=force)  # before planning, not after
     task, sel = _single_or_family(domain, problem, kw, model, explanation)
     fam = _ground(task, run)
     if verbose:
@@ -620,35 +623,38 @@ def validate(run, plan_file, domain, problem, model, explanation, as_json, verbo
     help="Cost bound (OPT: human cost <= c; JOINT: human cost <= c).",
 )
 @click.option("--out", "out_dir", type=click.Path(), required=True)
-@click.option("--force", is_flag=True)
+@click.option("--force", is_flag=True, help="Replace an existing --out folder as a whole.")
 @_command
 def encode(run, kind, explanation, robot_bound, human_bound, out_dir, force, verbose, **kw):
     """Export the OPT or JOINT formula as DIMACS CNF/WCNF with a variable map."""
     from mega_sat.cnf_export import export
+    from mega_sat.output import OutputError, OutputFolder
 
-    task = _task_from(kw)
-    sel = _read_explanation(task, explanation)
-    fam = _ground(task, run)
-    out = Path(out_dir)
-    if out.exists() and any(out.iterdir()) and not force:
-        raise UsageError("output folder is not empty (use --force to overwrite)", path=out_dir)
+    out = OutputFolder(out_dir, force=force)  # refused now, not after grounding and solving
     for name, v in (("--robot-bound", robot_bound), ("--human-bound", human_bound)):
         if v is not None and v < 0:
             raise UsageError(f"{name} must be >= 0, got {v}")
-    try:
-        files = export(
-            fam,
-            sel,
-            kind=kind,
-            out_dir=out,
-            robot_bound=robot_bound,
-            human_bound=human_bound,
-            update_names=[u.name for u in task.delta],
-        )
-    except ValueError as e:
-        raise UsageError(str(e)) from None
+    task = _task_from(kw)
+    sel = _read_explanation(task, explanation)
+    fam = _ground(task, run)
+    with out:
+        try:
+            files = export(
+                fam,
+                sel,
+                kind=kind,
+                out_dir=out.path,
+                robot_bound=robot_bound,
+                human_bound=human_bound,
+                update_names=[u.name for u in task.delta],
+            )
+        except ValueError as e:
+            raise UsageError(str(e)) from None
+        except OSError as e:
+            raise OutputError(f"cannot write file: {e.strerror or e}", path=out_dir) from None
+        out.commit()
     for name, path in files.items():
-        run.echo(f"{name}: {path}")
+        run.echo(f"{name}: {out.target / Path(path).name}")
     return EXIT_OK
 
 
@@ -685,11 +691,21 @@ def engine_options(fn):
             default=None,
             help="Write human + E (domain, problem) and the plan of every pair.",
         ),
-        click.option("--force", is_flag=True, help="Overwrite files in --write-model."),
+        click.option(
+            "--force", is_flag=True, help="Replace an existing --write-model folder as a whole."
+        ),
     ]
     for o in reversed(opts):
         fn = o(fn)
     return fn
+
+
+def _output_folder(target, force):
+    """``--write-model``'s folder, checked now so that an existing target is refused before
+    any solving (None without the option)."""
+    from mega_sat.output import OutputFolder
+
+    return None if target is None else OutputFolder(target, force=force)
 
 
 def _solver(kw, run):
@@ -720,31 +736,27 @@ def _point_text(p, c_robot, alpha=None, objective=None) -> list[str]:
     return lines
 
 
-def _write_models(solver, points, out_dir, force):
+def _write_models(solver, points, out):
+    """Write human + E, the plan and the explanation of every point into ``out`` (an
+    :class:`~mega_sat.output.OutputFolder` checked before solving): all of it or nothing."""
+    from mega_sat.output import write_file
     from mega_sat.pddl_writer import write_model
-    from mega_sat.planio import write_plan
+    from mega_sat.planio import format_plan
 
-    out = Path(out_dir)
     written = []
-    for k, p in enumerate(points):
-        d = out / f"point-{k}-E{p.size}"
-        m = solver.task.updated_model(p.selection)
-        written += list(
-            write_model(
-                m,
-                d,
-                domain_file="human-domain.pddl",
-                problem_file="human-problem.pddl",
-                overwrite=force,
-            )
-        )
-        plan_path = d / "plan.ipc"
-        write_plan(plan_path, p.plan, p.robot_cost, overwrite=force)
-        exp_path = d / "explanation.txt"
-        if exp_path.exists() and not force:
-            raise UsageError("file exists (use --force to overwrite)", path=str(exp_path))
-        exp_path.write_text("".join(e + "\n" for e in p.explanation))
-        written += [plan_path, exp_path]
+    with out:
+        for k, p in enumerate(points):
+            name = f"point-{k}-E{p.size}"
+            d = out.path / name
+            m = solver.task.updated_model(p.selection)
+            write_model(m, d, domain_file="human-domain.pddl", problem_file="human-problem.pddl")
+            write_file(d / "plan.ipc", format_plan(p.plan, p.robot_cost))
+            write_file(d / "explanation.txt", "".join(e + "\n" for e in p.explanation))
+            written += [
+                out.target / name / f
+                for f in ("human-domain.pddl", "human-problem.pddl", "plan.ipc", "explanation.txt")
+            ]
+        out.commit()
     return written
 
 
@@ -774,7 +786,7 @@ def _check_and_write(run, solver, points, do_verify, write_model, force):
             )
             return reports, notes
     if write_model:
-        for path in _write_models(solver, points, write_model, force):
+        for path in _write_models(solver, points, write_model):
             click.echo(f"; wrote {path}", err=True)
     return reports, notes
 
@@ -834,6 +846,7 @@ def solve(run, alpha, as_json, do_verify, write_model, force, verbose, **kw):
     except ValueError:
         raise UsageError(f"--alpha must be a number >= 0, got '{alpha}'") from None
     _check_alpha(a)
+    write_model = _output_folder(write_model, force)
     s = _solver(kw, run)
     t0 = time.perf_counter()
 
@@ -874,6 +887,7 @@ def solve(run, alpha, as_json, do_verify, write_model, force, verbose, **kw):
 @_command
 def frontier(run, as_json, do_verify, write_model, force, verbose, **kw):
     """All Pareto-optimal (|E|, robot cost) pairs: one run answers every alpha."""
+    write_model = _output_folder(write_model, force)
     s = _solver(kw, run)
 
     def work():

@@ -104,3 +104,58 @@ def test_a_failure_before_commit_leaves_the_target_untouched(tmp_path, failure):
         raise failure
     assert [p.name for p in target.iterdir()] == ["keep.txt"]
     assert _leftovers(tmp_path) == []
+
+
+def _cli(*args):
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parent.parent
+    return subprocess.run(
+        [sys.executable, "-m", "mega_sat.cli", *args], capture_output=True, text=True, cwd=root
+    )
+
+
+def test_write_model_refuses_an_existing_folder_before_solving(tmp_path):
+    target = tmp_path / "models"
+    target.mkdir()
+    (target / "old.txt").write_text("x")
+    r = _cli("frontier", "--task", "domains/rover-martian/p3", "--write-model", str(target))
+    assert r.returncode == 2
+    assert r.stderr == f"error: {target}: folder exists (use --force to replace it)\n"
+    assert r.stdout == ""  # refused before any solving: nothing was computed or printed
+    assert [p.name for p in target.iterdir()] == ["old.txt"]
+
+
+def test_write_model_force_replaces_an_earlier_task_as_a_whole(tmp_path):
+    target = tmp_path / "models"
+    r = _cli("frontier", "--task", "domains/usar-fetch/p1", "--write-model", str(target))
+    assert r.returncode == 0, r.stderr
+    assert sorted(p.name for p in target.iterdir()) == ["point-0-E1", "point-1-E3"]
+    r = _cli(
+        "frontier", "--task", "docs/examples/courier/p1", "--write-model", str(target), "--force"
+    )
+    assert r.returncode == 0, r.stderr
+    names = sorted(p.name for p in target.iterdir())
+    assert names == ["point-0-E0", "point-1-E1", "point-2-E3"]  # none of the earlier task's
+    assert (target / "point-2-E3" / "plan.ipc").read_text().startswith("(pick p1 a)")
+    assert _leftovers(tmp_path) == []
+
+
+def test_encode_refuses_an_existing_folder_before_grounding(tmp_path):
+    target = tmp_path / "enc"
+    r = _cli("encode", "--task", "domains/usar-fetch/p1", "--out", str(target))
+    assert r.returncode == 0, r.stderr
+    assert sorted(p.name for p in target.iterdir()) == ["opt.cnf", "opt.vars.json", "opt.wcnf"]
+    r = _cli("encode", "--task", "domains/usar-fetch/p1", "--out", str(target), "--kind", "joint")
+    assert r.returncode == 2 and "folder exists" in r.stderr
+    r = _cli("encode", "--task", "domains/usar-fetch/p1", "--out", str(target), "--kind", "joint",
+             "--force")  # fmt: skip
+    assert r.returncode == 0, r.stderr
+    assert sorted(p.name for p in target.iterdir()) == [
+        "joint.cnf",
+        "joint.vars.json",
+        "joint.wcnf",
+    ]
+    assert _leftovers(tmp_path) == []
