@@ -34,6 +34,7 @@ from mega_sat.errors import (
     EXIT_OUTPUT,
     EXIT_SIGINT,
     EXIT_TIMEOUT,
+    EXIT_USAGE,
     Interrupted,
     MegaSatError,
     StdoutError,
@@ -251,6 +252,14 @@ def _command(fn):
                 except Interrupted as e:
                     code = run.fail(
                         e.exit_code, f"{e} before anything could be reported", "interrupted"
+                    )
+                except MemoryError as e:
+                    e.__traceback__ = None  # drop the frames that hold the large structures
+                    code = run.fail(
+                        EXIT_USAGE,
+                        "out of memory: the task needs more memory than this process may use "
+                        "(-v prints the grounding's size; a smaller model, or the astar engine, "
+                        "may fit)",
                     )
                 except Exception as e:
                     if not is_pysat_interrupt(e):

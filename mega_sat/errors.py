@@ -24,7 +24,7 @@ EXIT_CODES: dict[int, str] = {
     EXIT_OK: "an answer, complete or partial (a time limit with a partial answer is 0 plus "
     "`complete: false`)",
     EXIT_FAILED: "a plan or a verification that failed",
-    EXIT_USAGE: "bad input",
+    EXIT_USAGE: "bad input (or a task larger than the memory the process may use)",
     EXIT_UNSOLVABLE: "the robot problem (or the model asked about) is proven unsolvable",
     EXIT_TOOL: "an external tool failed",
     EXIT_OUTPUT: "the output could not be written",

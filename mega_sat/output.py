@@ -20,11 +20,13 @@ import tempfile
 from pathlib import Path
 from types import TracebackType
 
-from mega_sat.errors import MegaSatError, UsageError
+from mega_sat.errors import EXIT_OUTPUT, MegaSatError, UsageError
 
 
 class OutputError(MegaSatError):
     """An output that cannot be written (no space left, no permission, ...)."""
+
+    exit_code = EXIT_OUTPUT
 
 
 def _io_error(action: str, path: Path, e: OSError) -> OutputError:

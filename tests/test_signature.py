@@ -228,3 +228,27 @@ def test_large_families_skip_the_swap_search(tmp_path):
     fam_small = ground(small)
     assert object_swaps(fam_small, max_actions=0) == []
     assert object_swaps(fam_small) == object_swaps(fam_small, max_actions=len(fam_small.actions))
+
+
+def test_running_out_of_memory_is_one_clear_error(monkeypatch):
+    """A MemoryError anywhere in a command ends in one 'error: out of memory' line (exit 2),
+    as JSON with --json, never a traceback."""
+    import json
+
+    from click.testing import CliRunner
+
+    import mega_sat.grounding
+    from mega_sat.cli import main
+
+    def too_large(*args, **kwargs):
+        raise MemoryError
+
+    monkeypatch.setattr(mega_sat.grounding, "ground", too_large)
+    for extra in ([], ["--json"]):
+        r = CliRunner().invoke(main, ["frontier", "--task", "domains/usar-fetch/p1", *extra])
+        assert r.exit_code == 2, r.output
+        assert r.exception is None or isinstance(r.exception, SystemExit)
+        if extra:
+            assert json.loads(r.stdout)["error"].startswith("out of memory")
+        else:
+            assert r.stderr.startswith("error: out of memory") and r.stderr.count("\n") == 1
