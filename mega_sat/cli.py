@@ -390,7 +390,11 @@ def _verbose_family(solver, verbose: bool) -> None:
     if verbose:
         t0 = time.perf_counter()
         fam = solver.family
-        click.echo(f"; grounded {fam.describe()} in {time.perf_counter() - t0:.3f}s", err=True)
+        click.echo(
+            f"; |Delta| = {len(solver.task.delta)}; grounded {fam.describe()} in "
+            f"{time.perf_counter() - t0:.3f}s",
+            err=True,
+        )
 
 
 @click.group(cls=_Main, context_settings={"help_option_names": ["-h", "--help"]})
@@ -434,7 +438,7 @@ def diff(run, as_json, verbose, **kw):
     for u in task.delta:
         run.echo(u.name)
     if verbose:
-        click.echo(f"; |Delta| = {len(task.delta)}", err=True)
+        _ground(task, run, verbose)
     return EXIT_OK
 
 
@@ -471,6 +475,8 @@ def apply(run, explanation, out_dir, force, verbose, **kw):
 
     task = _task_from(kw)
     sel = _read_explanation(task, explanation)
+    if verbose:
+        _ground(task, run, verbose)
     run.deadline.check()
     d, p = write_model(task.updated_model(sel), out_dir, overwrite=force)
     run.echo(f"wrote {d}\nwrote {p}")
@@ -502,13 +508,21 @@ def _single_or_family(domain, problem, kw, model, explanation):
     return task, _read_explanation(task, explanation)
 
 
-def _ground(task, run):
-    """The ground family of ``task``, within the run's time limit."""
+def _ground(task, run, verbose=False):
+    """The ground family of ``task``, within the run's time limit; with ``-v`` its sizes on
+    stderr (every command reports them, so a user sees what a model grounds to)."""
     from mega_sat.grounding import ground
 
     run.deadline.check()
+    t0 = time.perf_counter()
     fam = ground(task, deadline=run.deadline if run.deadline.limited else None)
     run.deadline.check()
+    if verbose:
+        click.echo(
+            f"; |Delta| = {len(task.delta)}; grounded {fam.describe()} in "
+            f"{time.perf_counter() - t0:.3f}s",
+            err=True,
+        )
     return fam
 
 
@@ -543,9 +557,7 @@ def plan(run, domain, problem, model, explanation, planner, out, force, as_json,
     if out:
         check_target(out, force=force)  # before planning, not after
     task, sel = _single_or_family(domain, problem, kw, model, explanation)
-    fam = _ground(task, run)
-    if verbose:
-        click.echo(f"; ground task: {fam.describe()}", err=True)
+    fam = _ground(task, run, verbose)
     r = NodePlanner(task, fam, planner, deadline=run.deadline).optimal(sel)
     where = problem or (
         task.sources.get("robot_problem")
@@ -593,6 +605,8 @@ def validate(run, plan_file, domain, problem, model, explanation, as_json, verbo
 
     task, sel = _single_or_family(domain, problem, kw, model, explanation)
     steps = read_plan(plan_file)
+    if verbose:
+        _ground(task, run, verbose)
     m = task.robot if sel == task.all_updates else task.updated_model(sel)
     run.deadline.check()
     sim = simulate(m, steps)
@@ -645,7 +659,7 @@ def encode(run, kind, explanation, robot_bound, human_bound, out_dir, force, ver
             raise UsageError(f"{name} must be >= 0, got {v}")
     task = _task_from(kw)
     sel = _read_explanation(task, explanation)
-    fam = _ground(task, run)
+    fam = _ground(task, run, verbose)
     with out:
         try:
             files = export(
@@ -1016,7 +1030,7 @@ def verify(run, explanation, plan_file, checker, as_json, verbose, **kw):
     task = _task_from(kw)
     sel = _read_explanation(task, explanation)
     steps = read_plan(plan_file)
-    fam = _ground(task, run)
+    fam = _ground(task, run, verbose)
     rep = verify_pair(task, fam, sel, steps, producer="sat", checker=checker, deadline=run.deadline)
     if as_json:
         run.echo_json(rep.to_dict())

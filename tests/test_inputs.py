@@ -121,3 +121,33 @@ def test_a_task_folder_loads_in_one_call_and_a_starred_dict_is_explained():
     assert load_task_dir(USAR / "p1").delta == load_task(**paths).delta
     with pytest.raises(UsageError, match=r"load_task\(\*\*paths\)"):
         load_task(*paths)
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["diff"],
+        ["apply", "--explanation", "{e}", "--out", "{tmp}/apply"],
+        ["plan"],
+        ["validate", "--plan", "{p}"],
+        ["encode", "--out", "{tmp}/enc"],
+        ["solve", "--alpha", "1"],
+        ["frontier"],
+        ["explain"],
+        ["verify", "--explanation", "{e}", "--plan", "{p}"],
+    ],
+)
+def test_every_command_reports_the_grounding_sizes_with_v(args, tmp_path):
+    from click.testing import CliRunner
+
+    from mega_sat.cli import main
+
+    e, p = tmp_path / "e.txt", tmp_path / "p.ipc"
+    e.write_text("add-has-initial-state-clear_path p6 p7\n")
+    p.write_text("(move p1 p2)\n")
+    args = [a.format(e=e, p=p, tmp=tmp_path) for a in args]
+    r = CliRunner().invoke(main, [*args, "--task", str(USAR / "p1"), "-v"])
+    assert r.exception is None or isinstance(r.exception, SystemExit)
+    sizes = [line for line in r.stderr.splitlines() if line.startswith("; |Delta| = 3; grounded")]
+    assert len(sizes) == 1, r.stderr
+    assert "39 atoms, 23 ground actions, 3 updates in " in sizes[0]
