@@ -252,20 +252,13 @@ def _builder(part: LiftedPart):
     """Entries of one component from one row of atom ids, merged like the per-action path."""
     guards = [g for _, g in part]
 
+    from mega_sat.grounding import merge_guards
+
     def merged(row: list[int]) -> tuple[Entry, ...]:
         out: dict[int, list[Guard]] = {}
         for i, g in zip(row, guards, strict=True):
-            if i < 0:
-                continue
-            out.setdefault(i, []).append(g)
-        res: list[Entry] = []
-        for i, gs in out.items():
-            if len(gs) == 1:
-                res.append((i, gs[0]))
-            elif None in gs:
-                res.append((i, None))
-            else:
-                res.extend((i, g) for g in sorted(set(gs)))  # type: ignore[type-var]
-        return tuple(res)
+            if i >= 0:
+                out.setdefault(i, []).append(g)
+        return merge_guards(out)
 
     return merged

@@ -1,4 +1,4 @@
-"""Benchmark harness: the A* baseline against the SAT engine, side by side (SPEC section 5).
+"""Benchmark harness: the A* baseline against the SAT engine, side by side (bench/README.md).
 
 Suites:
 
@@ -753,7 +753,7 @@ def disagreements(records: Iterable[dict[str, Any]]) -> list[dict[str, Any]]:
                     "sat": sv,
                     "kind": "BUG (sat not minimal or costs differ)"
                     if bug
-                    else "astar tie weakness (expected, SPEC section 2)",
+                    else "astar tie weakness (expected: docs/benchmarks.md)",
                 }
             )
     return out

@@ -1,6 +1,6 @@
 """Models as feature sets, the model difference Delta, and updated models ``human + E``.
 
-``Gamma(M)`` turns every condition of a model into one named feature (SPEC section 1).
+``Gamma(M)`` turns every condition of a model into one named feature (docs/models.md).
 Action-schema features are lifted: one feature covers every grounding.  The model difference
 ``Delta`` is the symmetric difference of the two feature sets, except that a schema cost (or a
 cost-function value) the two models disagree on is *one* feature whose application sets the

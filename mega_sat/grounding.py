@@ -452,8 +452,14 @@ def _entries(
             out[i] = [g]
         else:
             gs.append(g)
+    return merge_guards(out)
+
+
+def merge_guards(guards_by_atom: dict[int, list[Guard]]) -> tuple[Entry, ...]:
+    """One entry per atom and distinct guard, in first-occurrence order of the atoms; an
+    unguarded entry makes the atom's guarded ones redundant."""
     res: list[Entry] = []
-    for i, gs in out.items():
+    for i, gs in guards_by_atom.items():
         if len(gs) == 1:
             res.append((i, gs[0]))
         elif None in gs:

@@ -1,4 +1,4 @@
-"""The SAT oracles of the ``sat`` engine: ``OPT(E)`` and ``JOINT(E, K, c)`` (SPEC section 2).
+"""The SAT oracles of the ``sat`` engine: ``OPT(E)`` and ``JOINT(E, K, c)`` (encodings/joint-and-cores.md).
 
 Two incremental solvers stay alive for the whole task: one holds the family encoding with only
 the human copy (OPT), the other the human and robot copies sharing the action variables
@@ -86,10 +86,8 @@ class JointResult:
 
 
 # Options for CaDiCaL (both versions) as the oracles' solver: bounded variable elimination
-# off.  Measured with bench-calls on the 12 shipped problems (this machine, 2026-11-23): the
-# conflicts of every oracle call fell by 7 % on barman-bar/p3 (97,902 -> 91,496) and 13 % on
-# rover-martian/p3 (80,003 -> 69,951), the time inside the solver by 7 % in all, and the
-# calls >= 0.5 s from 9 to 6; no problem got slower beyond noise.
+# off, because the oracles' many small incremental calls under assumptions need fewer
+# conflicts without it (the measurements are in bench/README.md, per-call section).
 CADICAL_OPTIONS = {"elim": 0}
 
 

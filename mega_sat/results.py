@@ -153,7 +153,7 @@ def pareto_filter(points: Sequence[FrontierPoint]) -> tuple[FrontierPoint, ...]:
 def choose(frontier: Frontier, alpha: float) -> Solution:
     """Pick the frontier point minimising MEGA's objective for ``alpha``.
 
-    Ties: lower robot cost, then smaller |E| (SPEC section 1).  Because the frontier holds every
+    Ties: lower robot cost, then smaller |E| (docs/index.md).  Because the frontier holds every
     Pareto-optimal pair, this is the optimum over all MEGA solutions (paper property 4).
     """
     if not alpha >= 0:

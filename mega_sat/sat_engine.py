@@ -1,6 +1,6 @@
 """The ``sat`` engine: the whole MEGA frontier by a hitting-set loop over SAT oracles.
 
-Loop (SPEC section 2), from the explicable end toward the robot-optimal end::
+Loop (encodings/hitting-set.md), from the explicable end toward the robot-optimal end::
 
     K = inf; learned = []
     E = smallest selection satisfying learned          (hitting set: RC2 or CBC)
