@@ -445,10 +445,10 @@ def diff(run, as_json, verbose, **kw):
 def _read_explanation(task, path):
     if path is None:
         return frozenset()
-    p = Path(path)
-    if not p.is_file():
-        raise UsageError("explanation file not found", path=str(path))
-    return task.selection_from_names(p.read_text().splitlines(), path=str(path))
+    from mega_sat.pddl_reader import read_text
+
+    # read_text names the problem: missing, a folder, not UTF-8 text, unreadable
+    return task.selection_from_names(read_text(path, "explanation").splitlines(), path=str(path))
 
 
 @main.command()

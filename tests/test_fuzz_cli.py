@@ -30,7 +30,7 @@ NUMBERS = ["0", "-1", "1", "0.1", "nan", "inf", "-inf", "1e308", "1e400", "abc",
 @pytest.fixture(scope="module")
 def files(tmp_path_factory) -> dict[str, str]:
     d = tmp_path_factory.mktemp("fuzz-cli")
-    (d / "binary.bin").write_bytes(bytes(range(256)))
+    (d / "binary.bin").write_bytes(bytes(range(255, -1, -1)))  # not UTF-8 from byte 1
     (d / "bom.txt").write_bytes(b"\xef\xbb\xbfadd-has-initial-state-clear_path p6 p7\n")
     (d / "plan.ipc").write_text("(move p1 p6)\n(move p6 p7)\n(move p7 p5)\n(take_picture p5)\n")
     (d / "garbage.txt").write_text("((( not a plan\n")
@@ -169,3 +169,21 @@ def test_random_api_misuse(data, usar):
         calls[name]()
     except MegaSatError as e:
         assert str(e).startswith("error: ") and "\n" not in str(e), (name, value, str(e))
+
+
+@pytest.mark.parametrize("command", ["verify", "apply", "plan", "validate", "encode"])
+@pytest.mark.parametrize(("kind", "message"), [("binary", "is not UTF-8 text"),
+                                               ("folder", "is a directory"),
+                                               ("missing", "not found")])  # fmt: skip
+def test_explanation_files_that_are_not_text(command, kind, message, files):
+    extra = {
+        "verify": ["--plan", files["plan"]],
+        "apply": ["--out", files["out"] + "-apply"],
+        "plan": ["--model", "human"],
+        "validate": ["--plan", files["plan"], "--model", "human"],
+        "encode": ["--out", files["out"] + "-encode"],
+    }[command]
+    args = [command, "--task", "domains/usar-fetch/p1", "--explanation", files[kind], *extra]
+    result = _runner().invoke(main, args)
+    assert result.exit_code == 2, result.stderr
+    assert result.stderr == f"error: {files[kind]}: explanation file {message}\n"
