@@ -26,7 +26,7 @@ from mega_sat.family import GroundFamily, PlanStep
 from mega_sat.loading import load_task, load_task_dir, load_task_from_strings
 from mega_sat.planio import as_plan
 from mega_sat.progress import Progress
-from mega_sat.results import Explanation, Frontier, FrontierPoint, Solution, choose
+from mega_sat.results import Explanation, Frontier, FrontierPoint, Solution, check_alpha, choose
 from mega_sat.sat_engine import default_joint, default_planner
 from mega_sat.task import TwoModelTask
 from mega_sat.verify import VerifyReport, verify_pair
@@ -60,14 +60,7 @@ def _sat_solver_names() -> tuple[str, ...]:
     )
 
 
-def _check_alpha(alpha: float) -> float:
-    try:
-        a = float(alpha)
-    except (TypeError, ValueError):
-        raise UsageError(f"alpha must be a number >= 0, got {alpha!r}") from None
-    if not a >= 0 or a == float("inf"):
-        raise UsageError(f"alpha must be a finite number >= 0, got {alpha!r}")
-    return a
+_check_alpha = check_alpha  # the name the CLI imports
 
 
 class MegaSolver:

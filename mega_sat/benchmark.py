@@ -1242,6 +1242,11 @@ def run_bench(
             ks += list(SCALING_DELTAS)
         gen_log = generate_missing(root, ks, seed, only)
     todo = plan_jobs(root, suite, only, time_limit, baseline)
+    if not todo:  # refused before any file is written: empty tables would look like results
+        raise click.UsageError(
+            f"nothing to run: suite '{suite}' has no instance in {root}"
+            + (f" matching --only {' --only '.join(only)}" if only else "")
+        )
     robot_planners = ["builtin", "sat"] + (["fd"] if fd else [])
 
     prev = _previous(out_dir, fresh)

@@ -178,17 +178,17 @@ class _Run:
         """One ``error:`` line on stderr and, with ``--json`` and nothing printed yet, one JSON
         object on stdout; returns the exit code."""
         self.quiet()
-        text = message if message.startswith("error: ") else f"error: {message}"
+        text = f"error: {message}"  # library messages carry no prefix (mega_sat.errors)
         click.echo(text, err=True)
         if self.as_json and not self.printed:
             obj: dict = {}
             if status is not None:
                 obj = {"complete": False, "status": status}
-            obj.update(error=text.removeprefix("error: "), exit_code=code)
+            obj.update(error=message, exit_code=code)
             try:
                 self.echo_json(obj)
             except StdoutError as e:
-                click.echo(str(e), err=True)
+                click.echo(f"error: {e}", err=True)
                 return EXIT_OUTPUT
         return code
 
@@ -864,11 +864,7 @@ def solve(run, alpha, as_json, do_verify, write_model, force, verbose, **kw):
     """MEGA: the plan and explanation for one alpha."""
     from mega_sat.api import _check_alpha
 
-    try:
-        a = float(alpha)
-    except ValueError:
-        raise UsageError(f"--alpha must be a number >= 0, got '{alpha}'") from None
-    _check_alpha(a)
+    a = _check_alpha(alpha)  # the text as typed, so the error shows it unchanged
     write_model = _output_folder(write_model, force)
     s = _solver(kw, run)
     t0 = time.perf_counter()
@@ -942,7 +938,8 @@ def frontier(run, as_json, do_verify, write_model, force, verbose, **kw):
         run.echo(_status_line(fr))
         _incomplete_lines(run, notes)
         if fr.next_size_lower_bound is not None:
-            run.echo(f"lower bound on |E| for the next (cheaper) point: {fr.next_size_lower_bound}")
+            which = "the next (cheaper) point" if fr.points else "any point"
+            run.echo(f"lower bound on |E| for {which}: {fr.next_size_lower_bound}")
     _stop_message(run)
     return _finish(run, fr, reports, verbose)
 

@@ -1,7 +1,8 @@
 """User-facing errors: one line, naming the file, the place and the problem.
 
-The CLI prints ``str(error)`` and exits with ``error.exit_code``; it never shows a traceback for
-these.  Anything else escaping is a bug in mega-sat.
+``str(error)`` is the message alone (``<file>: <place>: <problem>``), so a library caller can
+show it in its own words; the CLI prints it as ``error: <message>`` and exits with
+``error.exit_code``, never with a traceback.  Anything else escaping is a bug in mega-sat.
 """
 
 from __future__ import annotations
@@ -99,7 +100,7 @@ class MegaSatError(Exception):
             loc += ": "
         elif self.where:
             loc = f"{self.where}: "
-        return f"error: {loc}{self.message}"
+        return f"{loc}{self.message}"
 
 
 class PDDLError(MegaSatError):

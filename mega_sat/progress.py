@@ -14,13 +14,21 @@ from dataclasses import dataclass, field
 from mega_sat.results import Frontier, FrontierPoint, pareto_filter
 
 
+def lower_bound_note(bound: int, have_points: bool) -> str:
+    """What a lower bound on |E| from the hitting set proves: with points, about the solutions
+    cheaper than the last one (the loop's robot-cost bound); without, about every solution."""
+    if have_points:
+        return f"any solution cheaper than the last point needs |E| >= {bound}"
+    return f"no point found yet; any solution needs |E| >= {bound}"
+
+
 @dataclass
 class Progress:
     """Facts proven by one engine run; mutable on purpose (the engine appends to it).
 
     ``points`` are real MEGA solutions (for the ``sat`` engine each with the smallest |E| for
     its robot cost level); ``lower_bound`` is a proven lower bound on |E| of any solution
-    cheaper than the last point (``sat`` engine only); ``notes`` are the engine's reasons why
+    cheaper than the last point, or of any solution before the first (``sat`` engine only); ``notes`` are the engine's reasons why
     its result is not exact (shared with the engine, so they are current).
     """
 
@@ -47,9 +55,7 @@ class Progress:
             return None
         notes = [*self.notes, reason]
         if self.lower_bound is not None:
-            notes[-1] += (
-                f"; any solution cheaper than the last point needs |E| >= {self.lower_bound}"
-            )
+            notes[-1] += "; " + lower_bound_note(self.lower_bound, bool(self.points))
         return Frontier(
             engine=self.engine,
             robot_optimal_cost=self.robot_optimal_cost,

@@ -50,7 +50,7 @@ class Frontier:
     ``exact`` is true only when every point is proven (minimal |E| for its robot cost, optimal
     human cost, complete frontier).  ``complete`` is false when a time limit stopped the engine
     early; then ``next_size_lower_bound`` is a proven lower bound on |E| for any solution cheaper
-    for the robot than the last point found.
+    for the robot than the last point found (for any solution, when no point was found).
     """
 
     engine: str
@@ -156,8 +156,7 @@ def choose(frontier: Frontier, alpha: float) -> Solution:
     Ties: lower robot cost, then smaller |E| (docs/index.md).  Because the frontier holds every
     Pareto-optimal pair, this is the optimum over all MEGA solutions (paper property 4).
     """
-    if not alpha >= 0:
-        raise ValueError("alpha must be a number >= 0")
+    check_alpha(alpha)
     if not frontier.points:
         from mega_sat.errors import UnsolvableError
 
@@ -171,6 +170,21 @@ def choose(frontier: Frontier, alpha: float) -> Solution:
         frontier.points, key=lambda p: (p.size + a * (p.robot_cost - c), p.robot_cost, p.size)
     )
     return Solution(alpha, best, best.objective(alpha, c), frontier)
+
+
+def check_alpha(alpha: object) -> float:
+    """``alpha`` as a float, or a :class:`~mega_sat.errors.UsageError` in the one wording that
+    the CLI (``--alpha TEXT``, shown as typed) and the library (any value, shown by ``repr``)
+    share."""
+    from mega_sat.errors import UsageError
+
+    try:
+        a = float(alpha)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        a = float("nan")
+    if not 0 <= a < float("inf"):
+        raise UsageError(f"alpha must be a finite number >= 0, got {alpha!r}")
+    return a
 
 
 def exact_alpha(alpha: float) -> Fraction:

@@ -24,7 +24,7 @@ from mega_sat.deadline import Deadline, TimeLimitReached
 from mega_sat.family import GroundFamily
 from mega_sat.hitting_set import make_hitting_set
 from mega_sat.joint_search import JointSearcher, search_joint
-from mega_sat.progress import Progress
+from mega_sat.progress import Progress, lower_bound_note
 from mega_sat.results import Frontier, FrontierPoint, pareto_filter
 from mega_sat.support import exclusion_clause, tight_support, unsolvable_core
 from mega_sat.task import TwoModelTask
@@ -170,9 +170,8 @@ def sat_frontier(
             complete = nxt is None
         if not complete:
             notes.append(
-                f"time limit {deadline.seconds}s reached: frontier incomplete; any "
-                f"solution cheaper than the last point needs |E| >= "
-                f"{lower_bound}"
+                f"time limit {deadline.seconds}s reached: frontier incomplete; "
+                + lower_bound_note(lower_bound, bool(points))
             )
 
     progress.stats = stats

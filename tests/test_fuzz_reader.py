@@ -59,7 +59,7 @@ def mutated(draw, text: str) -> str:
 
 def _clean(e: MegaSatError) -> None:
     text = str(e)
-    assert text.startswith("error: ") and "\n" not in text and "Traceback" not in text
+    assert text and not text.startswith("error: ") and "\n" not in text and "Traceback" not in text
 
 
 @FUZZ

@@ -110,7 +110,7 @@ def test_plans_in_any_form_and_case():
 def test_malformed_plans_are_one_clear_error(bad):
     with pytest.raises(MegaSatError) as info:
         as_plan(bad)
-    assert str(info.value).startswith("error: plan")
+    assert str(info.value).startswith("plan")
     assert "\n" not in str(info.value)
 
 

@@ -58,7 +58,7 @@ def test_pddl_error_names_the_human_file():
     with pytest.raises(PDDLError) as info:
         load_task(ARITY / "robot-domain.pddl", ARITY / "robot-problem.pddl",
                   ARITY / "human-domain.pddl")  # fmt: skip
-    assert str(info.value).startswith(f"error: {ARITY / 'robot-problem.pddl'}: line 4: ")
+    assert str(info.value).startswith(f"{ARITY / 'robot-problem.pddl'}: line 4: ")
     assert "predicate 'at' takes 1 argument(s), got 2 in :init" in str(info.value)
 
 
@@ -76,7 +76,7 @@ def test_load_task_from_strings():
     assert [u.name for u in task.delta] == ["add-has-initial-state-vehicle d1"]
     with pytest.raises(PDDLError) as info:
         load_task_from_strings(rd, rp, hd.replace("(:types", "(:typez"))
-    assert str(info.value).startswith("error: human domain: line 4: unknown domain section")
+    assert str(info.value).startswith("human domain: line 4: unknown domain section")
 
 
 def test_load_task_from_strings_mismatch_names_models():
@@ -109,13 +109,13 @@ def test_task_dir_prefers_its_own_domains_and_human_problem(tmp_path):
 def test_task_dir_errors(tmp_path):
     with pytest.raises(UsageError) as info:
         resolve_task_dir(tmp_path / "absent")
-    assert str(info.value) == f"error: {tmp_path / 'absent'}: task directory not found"
+    assert str(info.value) == f"{tmp_path / 'absent'}: task directory not found"
 
     task_dir = tmp_path / "p1"
     task_dir.mkdir()
     with pytest.raises(UsageError) as info:
         resolve_task_dir(task_dir)
-    assert str(info.value) == f"error: {task_dir}: no robot-problem.pddl in the task directory"
+    assert str(info.value) == f"{task_dir}: no robot-problem.pddl in the task directory"
 
     _copy(TYPES / "p1" / "robot-problem.pddl", task_dir / "robot-problem.pddl")
     _copy(TYPES / "robot-domain.pddl", tmp_path / "robot-domain.pddl")

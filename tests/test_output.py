@@ -51,7 +51,7 @@ def test_a_full_disk_leaves_the_old_file_and_no_temporary(tmp_path, monkeypatch)
     monkeypatch.setattr(os, "fdopen", lambda fd, *a, **k: Full(real(fd, *a, **k)))
     with pytest.raises(OutputError, match="No space left on device") as info:
         write_text(target, "new\n", overwrite=True)
-    assert str(info.value).startswith(f"error: {target}: cannot write file")
+    assert str(info.value).startswith(f"{target}: cannot write file")
     assert target.read_text() == "old\n"
     assert _leftovers(tmp_path) == []
 

@@ -88,7 +88,7 @@ def test_write_model_refuses_to_overwrite(tmp_path):
     p.write_text("keep me")
     with pytest.raises(UsageError) as info:
         write_model(m, out, domain_file="human-domain.pddl", problem_file="human-problem.pddl")
-    assert str(info.value).startswith(f"error: {d}: file exists")
+    assert str(info.value).startswith(f"{d}: file exists")
     assert p.read_text() == "keep me"  # nothing written when refusing
     write_model(m, out, domain_file="human-domain.pddl", problem_file="human-problem.pddl",
                 overwrite=True)  # fmt: skip

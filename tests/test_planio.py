@@ -42,7 +42,7 @@ def test_malformed_lines_name_path_and_line(text, line, shown):
     with pytest.raises(PDDLError) as info:
         parse_plan(text, path="my.plan")
     assert str(info.value) == (
-        f"error: my.plan: line {line}: expected one '(action arg ...)' per line, got '{shown}'"
+        f"my.plan: line {line}: expected one '(action arg ...)' per line, got '{shown}'"
     )
 
 
@@ -61,7 +61,7 @@ def test_write_and_read_plan(tmp_path):
     assert read_plan(path) == plan
     with pytest.raises(UsageError) as info:
         write_plan(path, (), 0)
-    assert str(info.value).startswith(f"error: {path}: file exists")
+    assert str(info.value).startswith(f"{path}: file exists")
     assert read_plan(path) == plan
     write_plan(path, (), 0, overwrite=True)
     assert read_plan(path) == ()
@@ -71,4 +71,4 @@ def test_read_missing_plan(tmp_path):
     missing = tmp_path / "none.plan"
     with pytest.raises(PDDLError) as info:
         read_plan(missing)
-    assert str(info.value) == f"error: {missing}: plan file not found"
+    assert str(info.value) == f"{missing}: plan file not found"

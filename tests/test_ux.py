@@ -1,0 +1,125 @@
+"""Small frictions of the user's view: library error texts, one alpha wording, messages of
+runs without points, the install instructions."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from mega_sat import api
+from mega_sat.cli import main
+from mega_sat.errors import PDDLError, UsageError
+
+ROOT = Path(__file__).resolve().parent.parent
+USAR = ROOT / "domains" / "usar-fetch" / "p1"
+
+
+def run(*args: str):
+    return CliRunner().invoke(main, [str(a) for a in args])
+
+
+def test_library_errors_carry_no_cli_prefix():
+    assert str(UsageError("bad value")) == "bad value"
+    e = PDDLError("unknown section", path="d.pddl", where="line 3")
+    assert str(e) == "d.pddl: line 3: unknown section"
+    with pytest.raises(UsageError) as info:
+        api.load_task_dir(ROOT / "no-such-folder")
+    assert not str(info.value).startswith("error")
+
+
+def test_cli_prints_the_prefix_once():
+    res = run("diff", "--task", ROOT / "no-such-folder")
+    assert res.exit_code == 2
+    assert res.output.splitlines() == [
+        f"error: {ROOT / 'no-such-folder'}: task directory not found"
+    ]
+    js = json.loads(run("diff", "--task", ROOT / "no-such-folder", "--json").stdout)
+    assert js["error"] == f"{ROOT / 'no-such-folder'}: task directory not found"
+
+
+@pytest.mark.parametrize("alpha", ["-1", "abc", "nan", "inf", ""])
+def test_one_alpha_wording_in_cli_and_library(alpha):
+    want = f"alpha must be a finite number >= 0, got {alpha!r}"
+    res = run("solve", "--task", USAR, "--alpha", alpha)
+    assert res.exit_code == 2 and res.output == f"error: {want}\n"
+    task = api.load_task_dir(USAR)
+    with pytest.raises(UsageError) as info:
+        api.solve(task, alpha)
+    assert str(info.value) == want
+    fr = api.frontier(task)
+    from mega_sat.results import choose
+
+    with pytest.raises(UsageError) as info:
+        choose(fr, alpha)
+    assert str(info.value) == want
+
+
+def test_numeric_alpha_in_the_library_is_shown_as_given():
+    task = api.load_task_dir(USAR)
+    with pytest.raises(UsageError, match=r"^alpha must be a finite number >= 0, got -1$"):
+        api.solve(task, -1)
+
+
+def test_bench_with_nothing_to_run_is_one_error_line(tmp_path):
+    out = tmp_path / "res"
+    domains = ROOT / "domains"
+    res = run("bench", "--suite", "smoke", "--domains", domains, "--only", "nope", "--out", out)
+    assert res.exit_code == 2
+    (line,) = res.output.splitlines()
+    assert line.startswith(
+        f"error: nothing to run: suite 'smoke' has no instance in {domains} matching --only nope"
+    )
+    assert not out.exists()
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    res = run("bench", "--suite", "paper", "--domains", empty, "--out", out)
+    assert res.exit_code == 2 and "nothing to run" in res.output and not out.exists()
+
+
+def test_a_stop_before_the_first_point_words_its_bound_for_every_solution():
+    from mega_sat.progress import Progress
+
+    pr = Progress()
+    pr.start("sat", ("u1", "u2"))
+    pr.robot_optimal_cost, pr.lower_bound = 4, 2
+    fr = pr.frontier("time limit 1.0s reached: frontier incomplete")
+    assert fr.notes[-1] == (
+        "time limit 1.0s reached: frontier incomplete; no point found yet; "
+        "any solution needs |E| >= 2"
+    )
+    assert "last point" not in " ".join(fr.notes)
+
+
+class _ExpiredAfterStart:
+    """A deadline with no clock limit that reports itself expired: the engine computes the
+    robot optimum, then stops before its first candidate."""
+
+    at = None
+    seconds = 1.0
+    limited = False
+
+    def expired(self) -> bool:
+        return True
+
+    def check(self) -> None:
+        pass
+
+    def remaining(self) -> None:
+        return None
+
+    def cap(self, seconds):
+        return seconds
+
+
+def test_sat_engine_stopped_before_any_point_says_no_point():
+    from mega_sat.grounding import ground
+    from mega_sat.sat_engine import sat_frontier
+
+    task = api.load_task_dir(USAR)
+    fr = sat_frontier(task, ground(task), deadline=_ExpiredAfterStart())
+    assert not fr.points and not fr.complete and fr.next_size_lower_bound == 0
+    assert fr.notes[-1].endswith("no point found yet; any solution needs |E| >= 0")
+    assert "last point" not in " ".join(fr.notes)
