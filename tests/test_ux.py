@@ -123,3 +123,34 @@ def test_sat_engine_stopped_before_any_point_says_no_point():
     assert not fr.points and not fr.complete and fr.next_size_lower_bound == 0
     assert fr.notes[-1].endswith("no point found yet; any solution needs |E| >= 0")
     assert "last point" not in " ".join(fr.notes)
+
+
+def test_api_docs_name_every_exported_function():
+    text = (ROOT / "docs" / "api.md").read_text()
+    missing = [n for n in api.__all__ if n.islower() and f"{n}(" not in text and f"api.{n}" not in text]
+    assert not missing, missing
+
+
+def test_api_docs_describe_resolve_task_dir_as_the_dict_it_returns():
+    from mega_sat.loading import resolve_task_dir
+
+    text = (ROOT / "docs" / "api.md").read_text()
+    (para,) = [p for p in text.split("\n\n") if p.startswith("`load_task_dir` loads")]
+    got = resolve_task_dir(USAR)
+    assert isinstance(got, dict) and "a dict" in para
+    assert all(f"`{k}`" in para for k in got), para
+    assert "returns the four paths" not in text
+
+
+@pytest.mark.parametrize("doc", ["README.md", "docs/index.md"])
+def test_install_docs_say_to_activate_the_venv(doc):
+    assert "source .venv/bin/activate" in (ROOT / doc).read_text()
+
+
+def test_readme_keeps_the_two_commands_ci_runs():
+    text = (ROOT / "README.md").read_text()
+    assert (
+        "python3 -m venv .venv && .venv/bin/pip install -e '.[all]' && .venv/bin/mega-sat "
+        "solve --task domains/usar-fetch/p1 --alpha 0.1"
+    ) in text
+    assert "\n.venv/bin/python -m pytest\n" in text
