@@ -135,6 +135,17 @@ def _read_sexpr(text: str, path: str) -> _List:
                     "unexpected ')' (unbalanced parentheses)", path=path, where=f"line {line}"
                 )
             l0, s0, items = stack.pop()
+            if (
+                suspect is None
+                and stack
+                and l0 < line
+                and not text[text.rfind("\n", 0, pos) + 1 : pos].strip()
+                and _indent(text, pos) < _indent(text, s0)
+                and _indent(text, pos) <= _indent(text, stack[-1][1])
+            ):
+                # a ')' alone at the start of a line, left of the form it closes and as far
+                # left as the form around it: meant for an outer form, so this one was left open
+                suspect = (l0, "the ')'", line)
             node = _List(tuple(items), l0, s0, m.end())
             (stack[-1][2] if stack else top).append(node)
         else:
@@ -148,9 +159,12 @@ def _read_sexpr(text: str, path: str) -> _List:
     if stack:
         if suspect is not None:
             opened, what, inside = suspect
+            how = (
+                "closes it, indented like an outer form's" if what == "the ')'" else "is inside it"
+            )
             raise PDDLError(
                 f"'(' is never closed (unbalanced parentheses): {what} on line {inside} "
-                f"is inside it (a ')' missing before line {inside}, or a '(' too many)",
+                f"{how} (a ')' missing before line {inside}, or a '(' too many)",
                 path=path,
                 where=f"line {opened}",
             )

@@ -178,6 +178,15 @@ def test_malformed_domains(name, message, line):
         ("problem-undefined-predicate", "undefined predicate 's' in :goal", 6),
         ("goal-variable", "variable '?x' in :goal", 6),
         ("bad-name-problem", "syntax error: unexpected '2'", 4),  # reported by lark
+        # the innermost form open at the end: the goal on line 7, not the define
+        ("unclosed-goal", "'(' is never closed (unbalanced parentheses)", 7),
+        # the ')' on line 8 is indented to close the define but closes the goal of line 7
+        (
+            "unclosed-goal-closed-late",
+            "'(' is never closed (unbalanced parentheses): the ')' on line 8 closes it, "
+            "indented like an outer form's (a ')' missing before line 8, or a '(' too many)",
+            7,
+        ),
     ],
 )
 def test_malformed_problems(name, message, line):

@@ -127,7 +127,9 @@ def test_sat_engine_stopped_before_any_point_says_no_point():
 
 def test_api_docs_name_every_exported_function():
     text = (ROOT / "docs" / "api.md").read_text()
-    missing = [n for n in api.__all__ if n.islower() and f"{n}(" not in text and f"api.{n}" not in text]
+    missing = [
+        n for n in api.__all__ if n.islower() and f"{n}(" not in text and f"api.{n}" not in text
+    ]
     assert not missing, missing
 
 
