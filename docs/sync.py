@@ -8,8 +8,8 @@ A block to keep current looks like this in any ``.md`` file::
     ...output...
     ```
 
-``python docs/sync.py`` re-runs every such command from the repository root and rewrites the
-block (blocks marked ``<!-- run (slow): ... -->`` only with ``--slow``: they take minutes); ``python docs/sync.py --check`` fails if any block differs from a fresh run (timings,
+``python docs/sync.py`` re-runs every such command from the repository root and rewrites each
+block whose output changed beyond its timings (blocks marked ``<!-- run (slow): ... -->`` only with ``--slow``: they take minutes); ``python docs/sync.py --check`` fails if any block differs from a fresh run (timings,
 memory and paths under /tmp are masked), so documented output cannot silently rot.
 """
 
@@ -80,8 +80,9 @@ def sync(path: Path, check: bool, slow: bool = False) -> list[str]:
         if m.group("slow") and not slow:
             return m.group(0)  # long-running: only regenerated (and checked) with --slow
         fresh = render(cmd)
-        if mask(fresh) != mask(m.group("body")):
-            stale.append(cmd)
+        if mask(fresh) == mask(m.group("body")):
+            return m.group(0)  # only timings differ: keep the block, so diffs show real changes
+        stale.append(cmd)
         return f"{m.group(1)}```console\n{fresh}```\n"
 
     new = BLOCK.sub(repl, text)

@@ -251,6 +251,7 @@ class MegaSolver:
             hitting_set=self.hitting_set,
             oracles=self.oracles if planner == "sat" else None,
             deadline=self.deadline,
+            progress=self.progress,
         )
 
     def verify(

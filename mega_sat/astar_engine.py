@@ -93,6 +93,7 @@ class _Search:
                 self.duplicates += 1
                 continue
             self.expanded += 1
+            self.progress.step(len(sel))
             try:
                 r = self.planner.optimal(sel)
             except TimeLimitReached as e:

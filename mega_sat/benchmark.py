@@ -1118,7 +1118,9 @@ def plot_sweeps(rows: Sequence[dict[str, Any]], out_dir: Path) -> list[Path]:
             xs = [r["alpha"] for r in rs]
             ax.plot(xs, [r["E"] for r in rs], "o-", label="explanation cost |E|")
             ax.plot(xs, [r["explicability_cost"] for r in rs], "s--", label="explicability cost")
-            ax.set_xscale("symlog", linthresh=0.05)
+            # linear up to 0.1: 0, 0.05 and 0.1 get as much room as a factor 3 above it
+            # (with linthresh=0.05 the labels "0.05" and "0.1" overlapped)
+            ax.set_xscale("symlog", linthresh=0.1, linscale=1.0)
             ticks = [t for t in (0, 0.05, 0.1, 0.3, 1, 3, 10) if t <= max(xs)]
             ax.set_xticks(ticks, [f"{t:g}" for t in ticks])
             ax.yaxis.get_major_locator().set_params(integer=True)
@@ -1271,8 +1273,15 @@ def run_bench(
 
     from tqdm import tqdm
 
+    from mega_sat.progress import SHOW_AFTER, progress_wanted
+
     bar = tqdm(
-        total=len(todo), desc=f"bench {suite}", unit="run", file=sys.stderr, disable=not progress
+        total=len(todo),
+        desc=f"bench {suite}",
+        unit="run",
+        file=sys.stderr,
+        disable=not (progress and progress_wanted()),  # a terminal only, as for solve
+        delay=SHOW_AFTER,
     )
     t0 = time.perf_counter()
     try:
@@ -1380,7 +1389,12 @@ _fresh_option = click.option("--fresh", is_flag=True, help="Discard earlier reco
     "skipping draws that fail.",
 )
 @click.option("--seed", type=int, default=0, show_default=True, help="Seed for --generate.")
-@click.option("--no-progress", is_flag=True, help="No progress bar.")
+@click.option(
+    "--quiet",
+    is_flag=True,
+    help="No progress bar on stderr (otherwise shown on a terminal after 1 s).",
+)
+@click.option("--no-progress", is_flag=True, hidden=True, help="The same as --quiet.")
 def bench_command(
     suite: str,
     domains_dir: str,
@@ -1392,6 +1406,7 @@ def bench_command(
     fresh: bool,
     generate: bool,
     seed: int,
+    quiet: bool,
     no_progress: bool,
 ) -> None:
     """Benchmark the astar baseline against the sat engine (paper Table "times" layout)."""
@@ -1409,7 +1424,7 @@ def bench_command(
         fresh=fresh,
         generate=generate,
         seed=seed,
-        progress=not no_progress,
+        progress=not (quiet or no_progress),
     )
     _echo_files(files, t0)
 

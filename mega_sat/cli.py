@@ -42,6 +42,7 @@ from mega_sat.errors import (
     is_pysat_interrupt,
     restore_sigint,
 )
+from mega_sat.progress import LiveProgress, progress_wanted
 
 ENGINE = click.Choice(["sat", "astar"])
 PLANNER = click.Choice(["builtin", "sat", "fd"])
@@ -81,6 +82,7 @@ class _Run:
         self.deadline: Deadline = NO_DEADLINE
         self.stopped: BaseException | None = None  # a stop after which a partial answer follows
         self.printed = False
+        self.live = None  # a LiveProgress when progress is wanted (see _command)
         self._quiet = False
         self._saved: dict[int, object] = {}
 
@@ -122,10 +124,19 @@ class _Run:
         self._saved.clear()
 
     def quiet(self) -> None:
-        """No more stops from here on (the run is reporting)."""
+        """No more stops from here on (the run is reporting), and no more progress display."""
         self._quiet = True
         if signal.SIGALRM in self._saved:
             signal.setitimer(signal.ITIMER_REAL, 0)
+        if self.live is not None:
+            self.live.stop()
+
+    def watch(self, progress) -> None:
+        """Show ``progress`` (a :class:`~mega_sat.progress.Progress`) live on stderr, when the
+        run shows progress at all (a terminal, no ``--quiet``)."""
+        if self.live is not None and not self._quiet:
+            self.live.watch(progress)
+            self.live.start()
 
     @staticmethod
     def reason(stop: BaseException) -> str:
@@ -229,14 +240,20 @@ def _command(fn):
     def wrapper(*args, **kwargs):
         run = _Run(bool(kwargs.get("as_json")))
         timeout = kwargs.pop("timeout", None)
+        quiet = kwargs.pop("quiet", False)
         code = EXIT_OK
         try:
             if sys.stdout is None:
                 raise StdoutError("cannot write to standard output: it is closed")
-            run.deadline = Deadline.after(
-                parse_timeout(timeout, name="--timeout"),
-                elapsed=_process_age() if _as_program else 0.0,
-            )
+            age = _process_age() if _as_program else 0.0
+            run.deadline = Deadline.after(parse_timeout(timeout, name="--timeout"), elapsed=age)
+            if progress_wanted(quiet):
+                ctx = click.get_current_context(silent=True)
+                run.live = LiveProgress(
+                    ctx.info_name if ctx is not None else fn.__name__,
+                    run.deadline,
+                    started=time.perf_counter() - age,
+                )
             with run:
                 try:
                     run.deadline.check()
@@ -684,6 +701,13 @@ def encode(run, kind, explanation, robot_bound, human_bound, out_dir, force, ver
 # --------------------------------------------------------------------------- MEGA
 
 
+quiet_option = click.option(
+    "--quiet",
+    is_flag=True,
+    help="No live progress on stderr (otherwise shown on a terminal after 1 s).",
+)
+
+
 def engine_options(fn):
     opts = [
         click.option("--engine", type=ENGINE, default="sat", show_default=True),
@@ -717,6 +741,7 @@ def engine_options(fn):
         click.option(
             "--force", is_flag=True, help="Replace an existing --write-model folder as a whole."
         ),
+        quiet_option,
     ]
     for o in reversed(opts):
         fn = o(fn)
@@ -736,7 +761,9 @@ def _solver(kw, run):
     from mega_sat.api import MegaSolver
 
     engine_kw = {k: kw.pop(k) for k in ("engine", "planner", "joint", "hitting_set")}
-    return MegaSolver(_task_from(kw), deadline=run.deadline, **engine_kw)
+    s = MegaSolver(_task_from(kw), deadline=run.deadline, **engine_kw)
+    run.watch(s.progress)
+    return s
 
 
 def _point_text(p, c_robot, alpha=None, objective=None) -> list[str]:
@@ -957,6 +984,7 @@ def frontier(run, as_json, do_verify, write_model, force, verbose, **kw):
 @click.option("--hitting-set", type=HITTING, default="rc2", show_default=True)
 @click.option("--json", "as_json", is_flag=True)
 @click.option("--verify", "do_verify", is_flag=True)
+@quiet_option
 @_command
 def explain(run, plan_file, planner, hitting_set, as_json, do_verify, verbose, **kw):
     """MCE: the smallest explanation that makes a plan optimal for the human."""
@@ -967,6 +995,7 @@ def explain(run, plan_file, planner, hitting_set, as_json, do_verify, verbose, *
     task = _task_from(kw)
     steps = read_plan(plan_file) if plan_file else None
     s = MegaSolver(task, planner=planner, hitting_set=hitting_set, deadline=run.deadline)
+    run.watch(s.progress)
     _verbose_family(s, verbose)
     ex = s.explain(steps)
     rep, notes = None, []

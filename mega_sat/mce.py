@@ -19,6 +19,7 @@ from mega_sat.errors import UnsolvableError, UsageError
 from mega_sat.family import GroundFamily, PlanStep
 from mega_sat.hitting_set import make_hitting_set
 from mega_sat.node_planner import NodePlanner
+from mega_sat.progress import Progress
 from mega_sat.results import Explanation
 from mega_sat.simulate import simulate, simulate_ground
 from mega_sat.support import exclusion_clause, support, tight_support
@@ -35,13 +36,17 @@ def minimal_explanation(
     oracles=None,
     timeout: float | None = None,
     deadline: Deadline | None = None,
+    progress: Progress | None = None,
 ) -> Explanation:
     """Smallest ``E`` making ``plan`` (default: a robot-optimal plan) optimal in ``human + E``.
 
     Stops at ``deadline`` (or ``timeout`` seconds from now) with
     :class:`~mega_sat.deadline.TimeLimitReached`: a candidate that is not the smallest proves
-    nothing, so there is no partial answer."""
+    nothing, so there is no partial answer.  ``progress`` shows each candidate as it is
+    checked (for a live display)."""
     t0 = time.perf_counter()
+    progress = progress if progress is not None else Progress()
+    progress.start("mce", tuple(u.name for u in task.delta))
     deadline = deadline if deadline is not None else Deadline.after(timeout)
     np_ = NodePlanner(task, family, planner, oracles=oracles, deadline=deadline)
     notes: list[str] = []
@@ -74,6 +79,7 @@ def minimal_explanation(
                     "(it is not optimal in the robot model either)"
                 )
             calls["candidates"] += 1
+            progress.step(len(sel))
             sim = simulate_ground(family.specialize(sel), plan)
             if not sim.valid:
                 hs.add(exclusion_clause(sel, support(family, plan)))

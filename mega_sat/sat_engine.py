@@ -193,6 +193,7 @@ def sat_frontier(
             # every selection smaller than sel is excluded by clauses that hold for any
             # robot-cost bound <= K, so a solution cheaper than the last point needs |sel|
             progress.lower_bound = len(sel)
+            progress.step(len(sel))
             stats["iterations"] += 1
             opt = opt_cache.get(sel)
             if opt is None:

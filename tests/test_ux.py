@@ -156,3 +156,31 @@ def test_readme_keeps_the_two_commands_ci_runs():
         "solve --task domains/usar-fetch/p1 --alpha 0.1"
     ) in text
     assert "\n.venv/bin/python -m pytest\n" in text
+
+
+def test_sweep_figure_tick_labels_do_not_overlap(tmp_path, monkeypatch):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from mega_sat.benchmark import ALPHA_GRID, plot_sweeps
+
+    figs = []
+    monkeypatch.setattr(plt, "close", figs.append)
+    rows = [
+        {"domain": "d", "problem": p, "alpha": a, "E": 1, "explicability_cost": 2}
+        for p in ("p1", "p2", "p3")
+        for a in ALPHA_GRID
+    ]
+    plot_sweeps(rows, tmp_path)
+    (fig,) = figs
+    fig.set_dpi(120)  # as saved
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    for ax in fig.axes:
+        boxes = [t.get_window_extent(renderer) for t in ax.get_xticklabels() if t.get_text()]
+        assert len(boxes) == 7
+        for a, b in zip(boxes, boxes[1:], strict=False):
+            # at least 0.1 inch between two labels ("0.05" and "0.1" were 0.03 inch apart)
+            assert b.x0 - a.x1 >= 12, [t.get_text() for t in ax.get_xticklabels()]
