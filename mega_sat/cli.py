@@ -841,6 +841,19 @@ def _check_and_write(run, solver, points, do_verify, write_model, force):
     return reports, notes
 
 
+def _plot(run, fr, target, force, title) -> list[str]:
+    """``frontier --plot``: the figure of the frontier, or a note why it was not drawn (the
+    run was stopped: the answer is printed first, within the time limit's allowance)."""
+    if target is None:
+        return []
+    if run.stopped is not None:
+        return ["--plot skipped: the run was stopped"]
+    from mega_sat.plotting import write_plot
+
+    click.echo(f"; wrote {write_plot(fr, target, force=force, title=title)}", err=True)
+    return []
+
+
 def _with_notes(d: dict, notes: list[str]) -> dict:
     """A result's JSON object with the run's own notes (a stop after the answer was found):
     ``complete`` false, ``exact`` as proven (the answer itself is finished)."""
@@ -930,10 +943,24 @@ def solve(run, alpha, as_json, do_verify, write_model, force, verbose, **kw):
 @main.command()
 @task_options
 @engine_options
+@click.option(
+    "--plot",
+    type=click.Path(),
+    default=None,
+    metavar="FILE",
+    help="Draw the frontier (robot cost against |E|, the alphas of each point) as PNG, SVG "
+    "or PDF by FILE's suffix; needs matplotlib; an existing FILE only with --force.",
+)
 @_command
-def frontier(run, as_json, do_verify, write_model, force, verbose, **kw):
+def frontier(run, as_json, do_verify, write_model, force, verbose, plot=None, **kw):
     """All Pareto-optimal (|E|, robot cost) pairs: one run answers every alpha."""
     write_model = _output_folder(write_model, force)
+    plot_target = None
+    if plot is not None:
+        from mega_sat.plotting import check_plot_target
+
+        plot_target = check_plot_target(plot, force=force)  # before solving, not after
+    title = str(kw.get("task_dir") or kw.get("robot_problem") or "")
     s = _solver(kw, run)
 
     def work():
@@ -942,6 +969,7 @@ def frontier(run, as_json, do_verify, write_model, force, verbose, **kw):
 
     fr = run.compute(work, s.partial_frontier)
     reports, notes = _check_and_write(run, s, fr.points, do_verify, write_model, force)
+    notes += _plot(run, fr, plot_target, force, title)
     if as_json:
         d = fr.to_dict()
         if do_verify and reports:

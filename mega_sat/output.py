@@ -1,7 +1,7 @@
 """Writes that cannot half-happen: a file or a whole folder appears complete or not at all.
 
 Every command that writes results (``apply``, ``plan --out``, ``encode --out``, ``solve`` and
-``frontier --write-model``, ``generate``) goes through these two helpers:
+``frontier --write-model``, ``frontier --plot``, ``generate``) goes through these two helpers:
 
 * :func:`write_file` writes a temporary file beside the target and renames it into place, so a
   full disk or an interrupt leaves the old file (or none), never a truncated one.
@@ -60,8 +60,9 @@ def _existing_ancestor(p: Path) -> Path:
     return p
 
 
-def write_file(path: str | Path, text: str, *, force: bool = False) -> Path:
-    """Write ``text`` to ``path`` atomically (temporary file, then rename)."""
+def write_file(path: str | Path, text: str | bytes, *, force: bool = False) -> Path:
+    """Write ``text`` (or binary data, e.g. a figure) to ``path`` atomically (temporary file,
+    then rename)."""
     p = check_target(path, force=force)
     try:
         p.parent.mkdir(parents=True, exist_ok=True)
@@ -69,9 +70,13 @@ def write_file(path: str | Path, text: str, *, force: bool = False) -> Path:
         raise _io_error("create folder", p.parent, e) from None
     fd, tmp = tempfile.mkstemp(dir=p.parent, prefix=f".{p.name}.", suffix=".tmp")
     try:
-        with os.fdopen(fd, "w", encoding="utf-8") as f:
-            f.write(text)
-            f.flush()
+        os.chmod(tmp, 0o666 & ~_umask())  # as open() would create it (mkstemp makes 0600)
+        if isinstance(text, bytes):
+            with os.fdopen(fd, "wb") as fb:
+                fb.write(text)
+        else:
+            with os.fdopen(fd, "w", encoding="utf-8") as f:
+                f.write(text)
         os.replace(tmp, p)
     except OSError as e:
         _remove(Path(tmp))
@@ -80,6 +85,13 @@ def write_file(path: str | Path, text: str, *, force: bool = False) -> Path:
         _remove(Path(tmp))
         raise
     return p
+
+
+def _umask() -> int:
+    """The process's file-creation mask (read by setting it and putting it back)."""
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
 
 
 def _remove(p: Path) -> None:
@@ -123,6 +135,7 @@ class OutputFolder:
         try:
             parent.mkdir(parents=True, exist_ok=True)
             self._tmp = Path(tempfile.mkdtemp(dir=parent, prefix=f".{self.target.name}.tmp-"))
+            os.chmod(self._tmp, 0o777 & ~_umask())  # as mkdir would (mkdtemp makes 0700)
         except OSError as e:
             raise _io_error("create folder", parent, e) from None
         return self

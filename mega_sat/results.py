@@ -172,6 +172,32 @@ def choose(frontier: Frontier, alpha: float) -> Solution:
     return Solution(alpha, best, best.objective(alpha, c), frontier)
 
 
+def alpha_ranges(frontier: Frontier) -> list[tuple[Fraction, Fraction | None] | None]:
+    """For each point, the alphas for which :func:`choose` picks it: ``(lo, hi)`` meaning
+    ``lo <= alpha < hi`` (``hi`` None: no upper end), or None when no alpha picks it.
+
+    Point ``i`` beats a point ``j`` with more updates and a lower robot cost while
+    ``alpha < (|E_j| - |E_i|) / (cost_i - cost_j)``; at equality ``j`` wins (lower robot cost
+    first).  It beats a point with fewer updates from ``(|E_i| - |E_j|) / (cost_j - cost_i)``
+    on (at equality ``i`` wins, for the same reason).
+    """
+    pts = frontier.points
+    out: list[tuple[Fraction, Fraction | None] | None] = []
+    for i, p in enumerate(pts):
+        lo = Fraction(0)
+        hi: Fraction | None = None
+        for j, q in enumerate(pts):
+            if j == i or q.robot_cost == p.robot_cost:
+                continue
+            cut = Fraction(q.size - p.size, p.robot_cost - q.robot_cost)
+            if q.robot_cost < p.robot_cost:  # j is cheaper for the robot: i wins below cut
+                hi = cut if hi is None else min(hi, cut)
+            else:  # j explains less: i wins from cut on
+                lo = max(lo, cut)
+        out.append(None if hi is not None and hi <= lo else (lo, hi))
+    return out
+
+
 def check_alpha(alpha: object) -> float:
     """``alpha`` as a float, or a :class:`~mega_sat.errors.UsageError` in the one wording that
     the CLI (``--alpha TEXT``, shown as typed) and the library (any value, shown by ``repr``)

@@ -159,3 +159,19 @@ def test_encode_refuses_an_existing_folder_before_grounding(tmp_path):
         "joint.wcnf",
     ]
     assert _leftovers(tmp_path) == []
+
+
+def test_written_files_and_folders_follow_the_umask(tmp_path):
+    old = os.umask(0o022)
+    try:
+        f = write_file(tmp_path / "plan.ipc", "x\n")
+        b = write_file(tmp_path / "figure.png", b"\x89PNG")
+        with OutputFolder(tmp_path / "out") as out:
+            write_file(out.path / "a.txt", "a\n")
+            out.commit()
+    finally:
+        os.umask(old)
+    assert b.read_bytes() == b"\x89PNG"
+    assert (f.stat().st_mode & 0o777, b.stat().st_mode & 0o777) == (0o644, 0o644)
+    assert (tmp_path / "out").stat().st_mode & 0o777 == 0o755
+    assert (tmp_path / "out" / "a.txt").stat().st_mode & 0o777 == 0o644

@@ -184,3 +184,112 @@ def test_sweep_figure_tick_labels_do_not_overlap(tmp_path, monkeypatch):
         for a, b in zip(boxes, boxes[1:], strict=False):
             # at least 0.1 inch between two labels ("0.05" and "0.1" were 0.03 inch apart)
             assert b.x0 - a.x1 >= 12, [t.get_text() for t in ax.get_xticklabels()]
+
+
+def _frontier(pairs, c_robot):
+    from mega_sat.results import Frontier, FrontierPoint
+
+    pts = tuple(
+        FrontierPoint(tuple(f"u{k}" for k in range(e)), frozenset(range(e)), (), c, c)
+        for e, c in pairs
+    )
+    return Frontier("sat", c_robot, tuple(f"u{k}" for k in range(9)), pts, True, True)
+
+
+@pytest.mark.parametrize(
+    ("pairs", "want"),
+    [
+        # blocksworld p2: |E| 0/1/2 at robot cost 12/8/6
+        ([(0, 12), (1, 8), (2, 6)], [(0, "1/4"), ("1/4", "1/2"), ("1/2", None)]),
+        # the middle point lies above the line of its neighbours: never chosen
+        ([(0, 10), (1, 9), (3, 4)], [(0, "1/2"), None, ("1/2", None)]),
+        # on that line: a tie at alpha = 1/2 for all three, won by the cheapest
+        ([(0, 4), (1, 2), (2, 0)], [(0, "1/2"), None, ("1/2", None)]),
+        ([(3, 4)], [(0, None)]),
+    ],
+)
+def test_alpha_ranges_match_choose(pairs, want):
+    from fractions import Fraction
+
+    from mega_sat.results import alpha_ranges, choose
+
+    fr = _frontier(pairs, pairs[-1][1])
+    got = alpha_ranges(fr)
+    assert got == [
+        None if w is None else (Fraction(w[0]), None if w[1] is None else Fraction(w[1]))
+        for w in want
+    ]
+    for alpha in [0, 0.1, 0.25, 0.3, 0.5, 0.75, 1, 2.5, 10]:
+        chosen = choose(fr, alpha).chosen
+        a = Fraction(repr(float(alpha)))
+        (k,) = [
+            k
+            for k, r in enumerate(got)
+            if r is not None and r[0] <= a and (r[1] is None or a < r[1])
+        ]
+        assert fr.points[k] == chosen, (alpha, k)
+
+
+BLOCKS = ROOT / "domains" / "blocksworld" / "p2"
+
+
+@pytest.mark.parametrize(
+    ("suffix", "magic"), [(".png", b"\x89PNG"), (".svg", b"<?xml"), (".pdf", b"%PDF")]
+)
+def test_frontier_plot_by_suffix_and_never_overwritten_without_force(tmp_path, suffix, magic):
+    target = tmp_path / f"frontier{suffix}"
+    res = run("frontier", "--task", BLOCKS, "--plot", target)
+    assert res.exit_code == 0, res.output
+    assert f"; wrote {target}" in res.stderr
+    assert target.read_bytes().startswith(magic)
+    before = target.read_bytes()
+    res = run("frontier", "--task", BLOCKS, "--plot", target)
+    assert res.exit_code == 2 and res.stdout == ""  # refused before solving
+    assert res.stderr == f"error: {target}: file exists (use --force to replace it)\n"
+    assert target.read_bytes() == before
+    res = run("frontier", "--task", BLOCKS, "--plot", target, "--force")
+    assert res.exit_code == 0 and target.read_bytes().startswith(magic)
+
+
+def test_frontier_plot_svg_shows_alpha_ranges_and_robot_optimum(tmp_path):
+    target = tmp_path / "f.svg"
+    assert run("frontier", "--task", BLOCKS, "--plot", target).exit_code == 0
+    svg = target.read_text()
+    # text is drawn as glyph paths; the labels are kept in comments
+    for text in ("0 ≤ α &lt; 0.25", "0.25 ≤ α &lt; 0.5", "α ≥ 0.5", "robot optimum"):
+        assert text in svg, text
+
+
+def test_plot_labels_a_point_no_alpha_picks():
+    from mega_sat.plotting import range_label
+    from mega_sat.results import alpha_ranges
+
+    fr = _frontier([(0, 10), (1, 9), (3, 4)], 4)
+    assert [range_label(r) for r in alpha_ranges(fr)] == [
+        "0 ≤ α < 0.5",
+        "never chosen",
+        "α ≥ 0.5",
+    ]
+    thirds = alpha_ranges(_frontier([(0, 4), (1, 1), (2, 0)], 0))
+    assert [range_label(r) for r in thirds] == ["0 ≤ α < 1/3", "1/3 ≤ α < 1", "α ≥ 1"]
+
+
+@pytest.mark.parametrize("name", ["f.jpg", "f", "f.png.txt"])
+def test_frontier_plot_unsupported_suffix_is_one_line_before_solving(tmp_path, name):
+    res = run("frontier", "--task", BLOCKS, "--plot", tmp_path / name)
+    assert res.exit_code == 2 and res.stdout == ""
+    (line,) = res.stderr.splitlines()
+    assert line.startswith(f"error: --plot {tmp_path / name}: unsupported file type")
+    assert line.endswith("(use .png, .svg or .pdf)")
+
+
+def test_frontier_plot_without_matplotlib_is_one_line(tmp_path, monkeypatch):
+    import sys
+
+    monkeypatch.setitem(sys.modules, "matplotlib", None)  # import matplotlib fails
+    res = run("frontier", "--task", BLOCKS, "--plot", tmp_path / "f.png")
+    assert res.exit_code == 2 and res.stdout == ""
+    assert res.stderr == (
+        "error: --plot needs matplotlib, which is not installed (pip install 'mega-sat[bench]')\n"
+    )
+    assert not (tmp_path / "f.png").exists()
