@@ -11,6 +11,10 @@ A run is stopped by its time limit (cooperatively by every step, and by a SIGALR
 shortly after the deadline, for steps without their own checks) or by SIGINT/SIGTERM (a handler
 raising :class:`~mega_sat.errors.Interrupted`).  Either way what was proven so far is printed,
 marked incomplete; child processes end with the exceptions that unwind through them.
+
+``solve``, ``frontier`` and ``explain`` show the engine's :class:`~mega_sat.progress.Progress`
+live on stderr (a terminal only, not with ``--quiet``); the line is cleared as soon as the run
+starts reporting (:meth:`_Run.quiet`), so it never mixes with the answer.
 """
 
 from __future__ import annotations
