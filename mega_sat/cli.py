@@ -846,8 +846,8 @@ def _check_and_write(run, solver, points, do_verify, write_model, force):
 
 
 def _plot(run, fr, target, force, title) -> list[str]:
-    """``frontier --plot``: the figure of the frontier, or a note why it was not drawn (the
-    run was stopped: the answer is printed first, within the time limit's allowance)."""
+    """``frontier --plot``: the figure of the frontier, or a note why it was not drawn (after a
+    stop nothing more is computed or written, as for ``--write-model``)."""
     if target is None:
         return []
     if run.stopped is not None:
