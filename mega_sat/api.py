@@ -29,6 +29,7 @@ from mega_sat.progress import Progress
 from mega_sat.results import Explanation, Frontier, FrontierPoint, Solution, check_alpha, choose
 from mega_sat.sat_engine import default_joint, default_planner
 from mega_sat.task import TwoModelTask
+from mega_sat.up_models import load_task_from_up
 from mega_sat.verify import VerifyReport, verify_pair
 
 ENGINES = ("sat", "astar")
@@ -43,6 +44,7 @@ __all__ = [
     "load_task",
     "load_task_dir",
     "load_task_from_strings",
+    "load_task_from_up",
     "solve",
     "verify",
 ]

@@ -51,12 +51,13 @@ import sys
 import tempfile
 import time
 from collections.abc import Callable, Iterable, Sequence
-from concurrent.futures import ThreadPoolExecutor, as_completed
 from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
 
 import click
+
+from mega_sat.executor import completed
 
 SUITES = ("paper", "scaling", "sweep", "smoke", "missing-schemas", "all")
 PAPER_DELTAS = (2, 7, 10)
@@ -1220,8 +1221,10 @@ def run_bench(
     generate: bool = False,
     seed: int = 0,
     progress: bool = True,
+    scheduler: str | None = None,
 ) -> dict[str, Path]:
-    """Run a suite and write every output; returns the written files."""
+    """Run a suite and write every output; returns the written files.  The runs go through
+    :func:`mega_sat.executor.completed`: ``jobs`` threads here, or a Dask ``scheduler``."""
     from mega_sat.fast_downward import fd_available
 
     if suite not in SUITES:
@@ -1285,30 +1288,25 @@ def run_bench(
     )
     t0 = time.perf_counter()
     try:
-        with ThreadPoolExecutor(max_workers=max(1, jobs)) as ex:
-            futs = {
-                ex.submit(
-                    run_job, j, robot_planners if j.engine == "sat" and not j.alphas else ()
-                ): j
-                for j in todo
-            }
-            for fut in as_completed(futs):
-                j = futs[fut]
-                rec = fut.result()
-                bar.set_postfix_str(f"{j.instance.label} {j.engine}: {rec.get('status')}")
-                bar.update(1)
-                rows = rec.pop("sweep", None)
-                records[record_key(rec)] = rec
-                if rows is not None:
-                    sweep_rows = [
-                        r
-                        for r in sweep_rows
-                        if (r["domain"], r["problem"]) != (j.instance.domain, j.instance.problem)
-                    ]
-                    sweep_rows += [
-                        {"domain": j.instance.domain, "problem": j.instance.problem, **r}
-                        for r in rows
-                    ]
+        calls = [(j, robot_planners if j.engine == "sat" and not j.alphas else ()) for j in todo]
+        for outcome in completed(run_job, calls, jobs=jobs, scheduler=scheduler):
+            j = todo[outcome.index]
+            if outcome.error is not None:
+                raise outcome.error
+            rec = outcome.value
+            bar.set_postfix_str(f"{j.instance.label} {j.engine}: {rec.get('status')}")
+            bar.update(1)
+            rows = rec.pop("sweep", None)
+            records[record_key(rec)] = rec
+            if rows is not None:
+                sweep_rows = [
+                    r
+                    for r in sweep_rows
+                    if (r["domain"], r["problem"]) != (j.instance.domain, j.instance.problem)
+                ]
+                sweep_rows += [
+                    {"domain": j.instance.domain, "problem": j.instance.problem, **r} for r in rows
+                ]
     finally:
         bar.close()
     machine = _run_machine(
@@ -1395,6 +1393,12 @@ _fresh_option = click.option("--fresh", is_flag=True, help="Discard earlier reco
     help="No progress bar on stderr (otherwise shown on a terminal after 1 s).",
 )
 @click.option("--no-progress", is_flag=True, hidden=True, help="The same as --quiet.")
+@click.option(
+    "--scheduler",
+    default=None,
+    metavar="ADDRESS",
+    help="Run on a Dask cluster (tcp://HOST:PORT); workers need this folder at the same path.",
+)
 def bench_command(
     suite: str,
     domains_dir: str,
@@ -1408,6 +1412,7 @@ def bench_command(
     seed: int,
     quiet: bool,
     no_progress: bool,
+    scheduler: str | None,
 ) -> None:
     """Benchmark the astar baseline against the sat engine (paper Table "times" layout)."""
     if time_limit is not None and not time_limit > 0:
@@ -1425,6 +1430,7 @@ def bench_command(
         generate=generate,
         seed=seed,
         progress=not (quiet or no_progress),
+        scheduler=scheduler,
     )
     _echo_files(files, t0)
 

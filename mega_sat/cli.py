@@ -38,6 +38,7 @@ from mega_sat.errors import (
     EXIT_OUTPUT,
     EXIT_SIGINT,
     EXIT_TIMEOUT,
+    EXIT_TOOL,
     EXIT_USAGE,
     Interrupted,
     MegaSatError,
@@ -1186,6 +1187,94 @@ def generate_suite(run, domains_dir, deltas, seed, time_budget, force):
         click.echo(f"{len(failed)} instance(s) not generated", err=True)
         return EXIT_FAILED
     return EXIT_OK
+
+
+@main.command()
+@click.argument("dirs", nargs=-1, required=True, type=click.Path())
+@click.option(
+    "--out",
+    type=click.Path(),
+    required=True,
+    help="JSON Lines results, one line per task; a file that exists is resumed.",
+)
+@click.option("--jobs", type=click.IntRange(min=1), default=1, show_default=True)
+@click.option(
+    "--scheduler",
+    default=None,
+    metavar="ADDRESS",
+    help="Run the tasks on a Dask cluster (tcp://HOST:PORT of its scheduler).",
+)
+@click.option(
+    "--task-timeout",
+    default=None,
+    metavar="SECONDS",
+    help="Time limit of each task (inf: none).",
+)
+@click.option(
+    "--timeout",
+    default=None,
+    metavar="SECONDS",
+    help="Time limit of the whole batch; written lines stay (inf: none).",
+)
+@click.option("--engine", type=ENGINE, default="sat", show_default=True)
+@click.option("--planner", type=PLANNER, default=None, help="As for frontier.")
+@click.option(
+    "--joint",
+    type=click.Choice(["portfolio", "sat", "search"]),
+    default=None,
+    help="As for frontier.",
+)
+@click.option("--hitting-set", type=HITTING, default="rc2", show_default=True)
+@click.option("--verify", "do_verify", is_flag=True, help="Verify every point (frontier --verify).")
+@click.option("--force", is_flag=True, help="Start --out afresh instead of resuming it.")
+@click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON.")
+@_command
+def batch(run, dirs, out, jobs, scheduler, task_timeout, as_json, force, **kw):
+    """frontier on many task folders, one JSON line per task, resumable."""
+    from mega_sat.batch import frontier_options, run_batch
+
+    limit = parse_timeout(task_timeout, name="--task-timeout")
+    options = frontier_options(kw["engine"], kw["planner"], kw["hitting_set"], kw["do_verify"])
+    if kw["joint"] is not None:
+        options += ("--joint", kw["joint"])
+
+    def progress(line, summary):
+        r = line["result"]
+        what = r.get("error", "")
+        if "frontier" in r:
+            what = f"{len(r['frontier'])} point(s)" + ("" if r["complete"] else ", incomplete")
+        n = summary.already_done + summary.written
+        click.echo(
+            f"[{n}/{summary.tasks}] {line['task']}: exit {line['exit_code']}, {what}, "
+            f"{line['wall_s']:.1f}s",
+            err=True,
+        )
+
+    summary = run_batch(
+        dirs,
+        out,
+        options=options,
+        task_timeout=limit,
+        jobs=jobs,
+        scheduler=scheduler,
+        force=force,
+        deadline=run.deadline,
+        on_line=progress,
+    )
+    for task, error in summary.failed:
+        click.echo(f"error: {task}: not run to the end ({error}); run again to retry", err=True)
+    if as_json:
+        run.echo_json(summary.to_dict())
+    else:
+        run.echo(
+            f"{out}: {summary.written} task(s) written now, {summary.already_done} already there, "
+            f"{len(summary.failed)} failed, of {summary.tasks}"
+        )
+        if summary.stopped:
+            run.echo(f"incomplete: {summary.stopped}; run again to resume")
+    if summary.interrupt_exit_code is not None:
+        return summary.interrupt_exit_code
+    return EXIT_TOOL if summary.failed else EXIT_OK
 
 
 def _register_bench() -> None:

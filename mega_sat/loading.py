@@ -60,7 +60,7 @@ def load_task(
         "human_problem": str(human_problem if human_problem is not None else robot_problem),
     }
     texts = {role: read_text(p, role.replace("_", " ")) for role, p in paths.items()}
-    return _build(texts, paths)
+    return task_from_texts(texts, paths)
 
 
 def load_task_from_strings(
@@ -86,7 +86,7 @@ def load_task_from_strings(
         "human_problem": human_problem if human_problem is not None else robot_problem,
     }
     names = {role: role.replace("_", " ") for role in texts}
-    return _build(texts, names)
+    return task_from_texts(texts, names)
 
 
 def _check_args(fn: str, expected: str, types: tuple[type, ...], **args: object) -> None:
@@ -98,7 +98,8 @@ def _check_args(fn: str, expected: str, types: tuple[type, ...], **args: object)
             raise UsageError(f"{fn}: {role} must be {expected}, got {type(value).__name__}")
 
 
-def _build(texts: dict[str, str], names: dict[str, str]) -> TwoModelTask:
+def task_from_texts(texts: dict[str, str], names: dict[str, str]) -> TwoModelTask:
+    """The task of four PDDL texts; ``names`` says how messages name each of them."""
     robot = parse_model(
         texts["robot_domain"],
         texts["robot_problem"],

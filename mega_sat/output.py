@@ -10,6 +10,10 @@ Every command that writes results (``apply``, ``plan --out``, ``encode --out``, 
   temporary sibling folder that :meth:`OutputFolder.commit` renames into place; with ``force``
   the earlier folder is replaced as a whole (none of its files stay mixed in).  Leaving the
   ``with`` block any other way (an error, Ctrl-C, a time limit) removes the temporary folder.
+
+``mega-sat batch`` is the one writer that appends instead (:class:`mega_sat.batch.ResultsFile`):
+its file grows by one whole, synced line per finished task, so that a stop keeps every task
+already done; a line cut short by a crash is dropped when the file is resumed.
 """
 
 from __future__ import annotations

@@ -109,6 +109,9 @@ def _read_sexpr(text: str, path: str) -> _List:
     # the indentation of a form still open (below the outermost), which it should have closed,
     # or the first section keyword (':effect') inside a condition or atom
     suspect: tuple[int, str, int] | None = None
+    # failing those, a list whose first element is a list, which PDDL never writes: its '('
+    # is most likely one too many
+    nested_head: int | None = None
     for m in _TOKEN_RE.finditer(text):
         line += text.count("\n", pos, m.start())
         pos = m.start()
@@ -128,6 +131,8 @@ def _read_sexpr(text: str, path: str) -> _List:
                 and _indent(text, pos) <= _indent(text, stack[-1][1])
             ):
                 suspect = (stack[-1][0], "the form", line)
+            if nested_head is None and stack and not stack[-1][2]:
+                nested_head = stack[-1][0]
             stack.append((line, m.start(), []))
         elif tok == ")":
             if not stack:
@@ -167,6 +172,13 @@ def _read_sexpr(text: str, path: str) -> _List:
                 f"{how} (a ')' missing before line {inside}, or a '(' too many)",
                 path=path,
                 where=f"line {opened}",
+            )
+        if nested_head is not None:
+            raise PDDLError(
+                "'(' is never closed (unbalanced parentheses): a list here starts with another "
+                "list (a '(' too many)",
+                path=path,
+                where=f"line {nested_head}",
             )
         raise PDDLError(
             "'(' is never closed (unbalanced parentheses)", path=path, where=f"line {stack[-1][0]}"

@@ -34,6 +34,13 @@ class FrontierPoint:
         """MEGA objective (4): ``|E| + alpha * (C(pi, M^R) - C*_R)``."""
         return self.size + alpha * (self.robot_cost - robot_optimal_cost)
 
+    def to_up_plan(self, problem: Any) -> Any:
+        """The plan as a unified-planning ``SequentialPlan`` of ``problem`` (see
+        :mod:`mega_sat.up_models`)."""
+        from mega_sat.up_models import to_up_plan
+
+        return to_up_plan(self.plan, problem)
+
     def to_dict(self) -> dict[str, Any]:
         return {
             "explanation": list(self.explanation),
@@ -99,6 +106,13 @@ class Solution:
         d.update({"alpha": self.alpha, "chosen": chosen})
         return d
 
+    def to_up_plan(self, problem: Any) -> Any:
+        """The plan as a unified-planning ``SequentialPlan`` of ``problem`` (see
+        :mod:`mega_sat.up_models`)."""
+        from mega_sat.up_models import to_up_plan
+
+        return to_up_plan(self.chosen.plan, problem)
+
     def to_json(self, indent: int | None = 2) -> str:
         return json.dumps(self.to_dict(), indent=indent)
 
@@ -128,6 +142,13 @@ class Explanation:
             "time_s": round(self.time_s, 6),
             "stats": self.stats,
         }
+
+    def to_up_plan(self, problem: Any) -> Any:
+        """The plan as a unified-planning ``SequentialPlan`` of ``problem`` (see
+        :mod:`mega_sat.up_models`)."""
+        from mega_sat.up_models import to_up_plan
+
+        return to_up_plan(self.plan, problem)
 
     def to_json(self, indent: int | None = 2) -> str:
         return json.dumps(self.to_dict(), indent=indent)

@@ -194,3 +194,16 @@ def symmetric_families(draw, **kw) -> GroundFamily:
                 )
             )  # fmt: skip
     return GroundFamily(tuple(atoms), base.n_updates, tuple(acts), both(base.init), both(base.goal))
+
+
+def check_bounded_answer(solver, enc, task: GroundTask, lits, h: int, best, bound) -> None:
+    """The encoding's answer to "a plan of at most ``h`` steps with cost <= ``bound``" under
+    ``lits`` agrees with ``best`` (the true cheapest such cost, None if none), and a decoded
+    plan is valid in ``task`` and within the bound."""
+    expect = best is not None and (bound is None or best <= bound)
+    assert solver.solve(assumptions=lits) == expect
+    if expect:
+        plan = enc.decode_plan(solver.get_model(), h)
+        cost = plan_cost(task, plan)
+        assert cost is not None and len(plan) <= h
+        assert bound is None or cost <= bound

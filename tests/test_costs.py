@@ -26,7 +26,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from pysat.solvers import Solver
-from sat_families import dijkstra, families, plan_cost, selections
+from sat_families import check_bounded_answer, dijkstra, families, plan_cost, selections
 from test_sat_encoding import cheapest_within
 
 from mega_sat.family import GroundAction, GroundFamily
@@ -197,13 +197,7 @@ def test_binary_bounds_match_bounded_search(fam: GroundFamily, data):
             bound = data.draw(st.sampled_from([None, 0, *near, 10**13]))
             lits = enc.selection_assumptions(sel) + enc.goal_assumptions(h)
             lits += enc.cost_assumptions(HUMAN, bound, h)
-            expect = best is not None and (bound is None or best <= bound)
-            assert solver.solve(assumptions=lits) == expect
-            if expect:
-                plan = enc.decode_plan(solver.get_model(), h)
-                cost = plan_cost(task, plan)
-                assert cost is not None and len(plan) <= h
-                assert bound is None or cost <= bound
+            check_bounded_answer(solver, enc, task, lits, h, best, bound)
 
 
 # -------------------------------------------------------------------------------- oracles

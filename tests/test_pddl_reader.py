@@ -154,6 +154,7 @@ def test_unsupported_problem_constructs(name, construct, line):
         ("unbalanced", "'(' is never closed (unbalanced parentheses): ':effect' on line 7", 6),
         ("extra-open", "'(' is never closed (unbalanced parentheses): ':effect' on line 8", 7),
         ("unclosed-action", "'(' is never closed (unbalanced parentheses): the form on line 9", 4),
+        ("extra-open-list", "a list here starts with another list (a '(' too many)", 10),
         ("extra-paren", "unexpected text after the end of '(define ...)'", 4),
         ("undefined-predicate", "undefined predicate 's' in the precondition of action 'a'", 7),
         ("domain-arity", "predicate 'r' takes 2 argument(s), got 1", 8),

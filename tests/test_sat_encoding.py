@@ -10,7 +10,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from pysat.solvers import Solver
-from sat_families import families, plan_cost, selections
+from sat_families import check_bounded_answer, families, plan_cost, selections
 
 from mega_sat.family import GroundFamily, GroundTask
 from mega_sat.sat_encoding import HUMAN, ROBOT, FamilyEncoding
@@ -65,13 +65,7 @@ def test_sat_iff_bounded_plan(variant, fam: GroundFamily, data):
             cost_lits = enc.cost_assumptions(HUMAN, bound, h)
             lits = enc.selection_assumptions(sel) + enc.goal_assumptions(h) + cost_lits
             best = cheapest_within(task, h)
-            expect = best is not None and (bound is None or best <= bound)
-            assert solver.solve(assumptions=lits) == expect
-            if expect:
-                plan = enc.decode_plan(solver.get_model(), h)
-                cost = plan_cost(task, plan)
-                assert cost is not None and len(plan) <= h
-                assert bound is None or cost <= bound
+            check_bounded_answer(solver, enc, task, lits, h, best, bound)
 
 
 @SETTINGS
