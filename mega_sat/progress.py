@@ -161,7 +161,8 @@ class LiveProgress:
         else:
             what = f"iteration {p.iteration}, searching |E| = {p.size}"
             if p.engine != "mce":  # an MCE has no point before its answer
-                n = len(p.points)
+                # astar publishes every node the robot can run: count the Pareto-optimal ones
+                n = len(pareto_filter(list(p.points)))
                 what += f", {n} point{'' if n == 1 else 's'} found"
         used = _seconds(self.elapsed())
         if self.deadline.seconds is not None:

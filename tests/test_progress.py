@@ -153,3 +153,12 @@ def test_a_real_terminal_shows_progress_after_a_second_unless_quiet():
     assert "\rfrontier: " in err and "points found" in err and " of 120s" in err
     out, err = _on_a_terminal(["frontier", "--task", str(ROVER), "--quiet"])
     assert "exact: yes" in out and err == ""
+
+
+def test_astar_counts_only_pareto_optimal_points():
+    s = api.MegaSolver(api.load_task_dir(BLOCKS), engine="astar")
+    live = LiveProgress("frontier", Deadline())
+    live.watch(s.progress)
+    fr = s.frontier()
+    assert len(s.progress.points) > len(fr.points)  # every evaluated node the robot can run
+    assert f", {len(fr.points)} points found, " in live.text()
