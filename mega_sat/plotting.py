@@ -99,7 +99,8 @@ def frontier_figure(fr: Frontier, fmt: str, title: str = "") -> bytes:
         ax.yaxis.set_major_locator(MaxNLocator(integer=True))
         ax.set_xlabel("explanation size |E|")
         ax.set_ylabel("robot plan cost")
-        status = "" if fr.complete else " (incomplete: stopped early)"
+        # a point missed by an early stop can take over part of any range
+        status = "" if fr.complete else "\n(incomplete: α ranges among the points found so far)"
         ax.set_title(f"MEGA frontier{': ' + title if title else ''}{status}", fontsize=11)
         ax.grid(True, alpha=0.3)
         ax.legend(loc="upper right", fontsize=8.5)

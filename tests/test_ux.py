@@ -293,3 +293,27 @@ def test_frontier_plot_without_matplotlib_is_one_line(tmp_path, monkeypatch):
         "error: --plot needs matplotlib, which is not installed (pip install 'mega-sat[bench]')\n"
     )
     assert not (tmp_path / "f.png").exists()
+
+
+def test_plot_of_an_incomplete_frontier_says_so(tmp_path):
+    import dataclasses
+
+    from mega_sat.plotting import frontier_figure
+
+    fr = api.frontier(api.load_task_dir(BLOCKS))
+    cut = dataclasses.replace(fr, points=fr.points[:2], complete=False, exact=False)
+    assert "incomplete" not in frontier_figure(fr, "svg").decode()
+    assert "(incomplete: α ranges among the points found so far)" in (
+        frontier_figure(cut, "svg").decode()
+    )
+
+
+def test_plot_is_skipped_after_a_stop(tmp_path):
+    from mega_sat.cli import _plot, _Run
+    from mega_sat.deadline import TimeLimitReached
+
+    run = _Run(as_json=False)
+    run.stopped = TimeLimitReached(1.0, forced=True)
+    fr = api.frontier(api.load_task_dir(BLOCKS))
+    assert _plot(run, fr, tmp_path / "f.png", False, "t") == ["--plot skipped: the run was stopped"]
+    assert not (tmp_path / "f.png").exists()
