@@ -2,7 +2,8 @@
 
 A run can be stopped anywhere: by its time limit (cooperatively, or by the CLI's backstop timer
 between any two bytecodes) or by SIGINT/SIGTERM.  The engines write each proven fact here the
-moment it is proven (the robot optimum, each frontier point, the current lower bound on |E|),
+moment it is proven (the robot optimum, each frontier point, the current lower bound on the
+explanation cost),
 so the caller that catches the stop can still report them, marked incomplete.
 """
 
@@ -18,14 +19,16 @@ from mega_sat.results import Frontier, FrontierPoint, pareto_filter
 class Progress:
     """Facts proven by one engine run; mutable on purpose (the engine appends to it).
 
-    ``points`` are real MEGA solutions (for the ``sat`` engine each with the smallest |E| for
-    its robot cost level); ``lower_bound`` is a proven lower bound on |E| of any solution
-    cheaper than the last point (``sat`` engine only); ``notes`` are the engine's reasons why
-    its result is not exact (shared with the engine, so they are current).
+    ``points`` are real MEGA solutions (for the ``sat`` engine each with the smallest cost(E)
+    for its robot cost level); ``lower_bound`` is a proven lower bound on cost(E) (``|E|``
+    without update costs) of any solution cheaper than the last point (``sat`` engine only);
+    ``notes`` are the engine's reasons why its result is not exact (shared with the engine, so
+    they are current); ``update_costs``: the cost per update when update costs are in use.
     """
 
     engine: str = ""
     model_difference: tuple[str, ...] = ()
+    update_costs: tuple[int, ...] | None = None
     robot_optimal_cost: int | None = None
     points: list[FrontierPoint] = field(default_factory=list)
     lower_bound: int | None = None
@@ -33,9 +36,15 @@ class Progress:
     stats: dict = field(default_factory=dict)
     t0: float = field(default_factory=time.perf_counter)
 
-    def start(self, engine: str, model_difference: tuple[str, ...]) -> None:
+    def start(
+        self,
+        engine: str,
+        model_difference: tuple[str, ...],
+        update_costs: tuple[int, ...] | None = None,
+    ) -> None:
         """Forget an earlier run and start recording a new one."""
         self.engine, self.model_difference = engine, model_difference
+        self.update_costs = update_costs
         self.robot_optimal_cost, self.lower_bound = None, None
         self.points, self.notes, self.stats = [], [], {}
         self.t0 = time.perf_counter()
@@ -46,9 +55,11 @@ class Progress:
         if self.robot_optimal_cost is None:
             return None
         notes = [*self.notes, reason]
+        weighted = self.update_costs is not None
         if self.lower_bound is not None:
             notes[-1] += (
-                f"; any solution cheaper than the last point needs |E| >= {self.lower_bound}"
+                f"; any solution cheaper than the last point needs "
+                f"{'cost(E)' if weighted else '|E|'} >= {self.lower_bound}"
             )
         return Frontier(
             engine=self.engine,
@@ -58,7 +69,9 @@ class Progress:
             exact=False,
             complete=False,
             notes=tuple(dict.fromkeys(notes)),
-            next_size_lower_bound=self.lower_bound,
+            next_size_lower_bound=None if weighted else self.lower_bound,
             time_s=time.perf_counter() - self.t0,
             stats=dict(self.stats),
+            update_costs=self.update_costs,
+            next_cost_lower_bound=self.lower_bound,
         )
