@@ -1,5 +1,5 @@
-"""Weighted updates: both engines and MCE against the brute-force oracle with random costs, the
-file format, and the library boundary.
+"""Weighted updates (``--update-costs``): both engines and MCE against the brute-force oracle
+with random costs, the file format and its errors, and the library boundary.
 
 With update costs the explanation cost is the sum of the costs of E's updates; the frontier is
 over (cost(E), robot cost) and the objective is cost(E) + alpha * (extra robot cost).
@@ -7,10 +7,12 @@ over (cost(E), robot cost) and the objective is cost(E) + alpha * (extra robot c
 
 from __future__ import annotations
 
+import json
 from fractions import Fraction
 from pathlib import Path
 
 import pytest
+from click.testing import CliRunner
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from minitasks import usar_like
@@ -20,6 +22,7 @@ from tradeoff_tasks import tradeoff_tasks
 from mega_sat.api import MegaSolver, load_task_dir
 from mega_sat.astar_engine import astar_frontier, astar_solve
 from mega_sat.bruteforce import brute_force_frontier, brute_force_mce
+from mega_sat.cli import main
 from mega_sat.errors import UnsolvableError
 from mega_sat.grounding import ground
 from mega_sat.mce import minimal_explanation
@@ -30,6 +33,7 @@ from mega_sat.sat_engine import sat_frontier
 from mega_sat.update_costs import (
     UpdateCostError,
     cost_vector,
+    load_update_costs,
     parse_update_costs,
 )
 from mega_sat.verify import verify_pair
@@ -287,3 +291,134 @@ def test_parser_format():
     assert cost_vector(task, got) == (5, 2, 3)
     assert cost_vector(task, parse_update_costs(f"{P7P5} 4\n")) == (1, 4, 1)
     assert cost_vector(task, None) is None
+
+
+# ---------------------------------------------------------------------------- CLI
+
+
+def run(*args):
+    return CliRunner().invoke(main, [str(a) for a in args])
+
+
+def _error_line(res) -> str:
+    lines = [ln for ln in res.output.splitlines() if ln.strip()]
+    assert len(lines) == 1, res.output
+    assert "Traceback" not in res.output and lines[0].startswith("error: ")
+    return lines[0]
+
+
+@pytest.mark.parametrize(
+    ("text", "line", "words"),
+    [
+        (f"{P6P7} 2\nremove-has-initial-state-clear_path p8 p1 2\n", 2, "not an update"),
+        (f"# c\n{P6P7} 0\n", 2, "must be a positive integer, got 0"),
+        (f"{P6P7} -4\n", 1, "must be a positive integer, got -4"),
+        (f"{P6P7} 2.5\n", 1, "must be a positive integer, got '2.5'"),
+        (f"{P6P7}\n", 1, "must be a positive integer, got 'p7'"),
+        ("lonely-token\n", 1, "expected an update name and its cost"),
+        (f"{P6P7} 2\n\n{P6P7} 3\n", 3, "has a cost already (line 1)"),
+        (f"{P6P7} 99999999999\n", 1, "larger than"),
+    ],
+)
+@pytest.mark.parametrize("command", ["frontier", "solve", "verify", "explain"])
+def test_cli_cost_file_errors(tmp_path, text, line, words, command):
+    f = tmp_path / "bad.costs"
+    f.write_text(text)
+    extra = {
+        "frontier": [],
+        "solve": ["--alpha", "1"],
+        "verify": [
+            "--plan",
+            ROOT / "docs/examples/usar-p1-explicable.plan",
+            "--explanation",
+            ROOT / "docs/examples/usar-p1-low-alpha.explanation",
+        ],
+        "explain": [],
+    }[command]
+    res = run(command, "--task", USAR, "--update-costs", f, *extra)
+    assert res.exit_code == 2
+    err = _error_line(res)
+    assert err.startswith(f"error: {f}: line {line}: ") and words in err, err
+
+
+@pytest.mark.parametrize("kind", ["missing", "folder", "binary"])
+def test_cli_unreadable_cost_file(tmp_path, kind):
+    f = tmp_path / "c.costs"
+    if kind == "folder":
+        f.mkdir()
+    elif kind == "binary":
+        f.write_bytes(b"\xff\xfe\x00bad")
+    res = run("frontier", "--task", USAR, "--update-costs", f)
+    assert res.exit_code == 2
+    assert str(f) in _error_line(res)
+    js = run("frontier", "--task", USAR, "--update-costs", f, "--json")
+    assert js.exit_code == 2 and json.loads(js.stdout)["exit_code"] == 2
+
+
+def test_cli_frontier_and_solve_with_costs(tmp_path):
+    f = tmp_path / "usar.costs"
+    f.write_text(f"# the new passage is hard to explain\n{P6P7} 5\n")
+    res = run("frontier", "--task", USAR, "--update-costs", f)
+    assert res.exit_code == 0, res.output
+    assert "[0] cost(E) = 1, |E| = 1, robot cost 8" in res.output
+    assert "[1] cost(E) = 7, |E| = 3, robot cost 4" in res.output
+    d = json.loads(run("frontier", "--task", USAR, "--update-costs", f, "--json").stdout)
+    assert d["update_costs"] == {P6P7: 5, P7P5: 1, P1P8: 1}
+    assert [p["explanation_cost"] for p in d["frontier"]] == [1, 7]
+    assert "next_cost_lower_bound" in d
+    sol = run("solve", "--task", USAR, "--alpha", "1", "--update-costs", f, "--verify")
+    assert sol.exit_code == 0, sol.output
+    assert "cost(E) = 1, |E| = 1, objective = 1 + 1 * 4 = 5" in sol.output
+    assert "explanation cost as reported: reported 1, update costs give 1" in sol.output
+    js = json.loads(
+        run("solve", "--task", USAR, "--alpha", "1", "--update-costs", f, "--json").stdout
+    )
+    assert js["chosen"]["explanation_cost"] == 1 and js["chosen"]["objective"] == 5
+    # the same run without costs picks the robot-optimal plan and prints no cost
+    plain = run("solve", "--task", USAR, "--alpha", "1")
+    assert "|E| = 3, objective = 3 + 1 * 0 = 3" in plain.output and "cost(E)" not in plain.output
+    pj = json.loads(run("frontier", "--task", USAR, "--json").stdout)
+    assert "update_costs" not in pj and "next_cost_lower_bound" not in pj
+    assert all("explanation_cost" not in p for p in pj["frontier"])
+
+
+def test_cli_all_ones_file_gives_the_plain_frontier(tmp_path):
+    f = tmp_path / "ones.costs"
+    f.write_text(f"{P6P7} 1\n{P7P5} 1\n{P1P8} 1\n")
+    a = json.loads(run("frontier", "--task", USAR, "--update-costs", f, "--json").stdout)
+    b = json.loads(run("frontier", "--task", USAR, "--json").stdout)
+    keys = ("explanation", "plan", "robot_cost", "human_cost")
+    assert [{k: p[k] for k in keys} for p in a["frontier"]] == [
+        {k: p[k] for k in keys} for p in b["frontier"]
+    ]
+    assert [p["explanation_cost"] for p in a["frontier"]] == [
+        len(p["explanation"]) for p in b["frontier"]
+    ]
+
+
+def test_cli_verify_states_the_cost(tmp_path):
+    f = tmp_path / "usar.costs"
+    f.write_text(f"{P1P8} 4\n")
+    args = [
+        "verify",
+        "--task",
+        USAR,
+        "--plan",
+        ROOT / "docs/examples/usar-p1-explicable.plan",
+        "--explanation",
+        ROOT / "docs/examples/usar-p1-low-alpha.explanation",
+        "--update-costs",
+        f,
+    ]
+    res = run(*args)
+    assert res.exit_code == 0, res.output
+    assert "explanation cost under the update costs: cost(E) = 4, |E| = 1" in res.output
+    d = json.loads(run(*args, "--json").stdout)
+    assert d["explanation_cost"] == 4 and d["size"] == 1 and d["ok"]
+    ex = run("explain", "--task", USAR, "--update-costs", f)
+    assert ex.exit_code == 0 and "cost(E) = 6, |E| = 3" in ex.output
+
+
+def test_load_update_costs_from_docs_example():
+    costs = load_update_costs(ROOT / "docs/examples/usar-p1.costs")
+    assert costs.as_dict() == {P6P7: 5}
