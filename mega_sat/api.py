@@ -17,7 +17,7 @@ several alphas, the frontier and an MCE costs one grounding and one encoding.
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from functools import cached_property
 
 from mega_sat.deadline import Deadline
@@ -30,6 +30,7 @@ from mega_sat.results import Explanation, Frontier, FrontierPoint, Solution, che
 from mega_sat.sat_engine import default_joint, default_planner
 from mega_sat.task import TwoModelTask
 from mega_sat.up_models import load_task_from_up
+from mega_sat.update_costs import UpdateCosts, cost_vector, load_update_costs
 from mega_sat.verify import VerifyReport, verify_pair
 
 ENGINES = ("sat", "astar")
@@ -45,6 +46,7 @@ __all__ = [
     "load_task_dir",
     "load_task_from_strings",
     "load_task_from_up",
+    "load_update_costs",
     "solve",
     "verify",
 ]
@@ -86,6 +88,13 @@ class MegaSolver:
     ``sat`` engine's frontier returns what it has proven, marked incomplete; a step with
     nothing to report raises :class:`~mega_sat.deadline.TimeLimitReached`, after which
     :meth:`partial_frontier` still gives what was proven.
+
+    ``update_costs``: a positive integer cost per update, a mapping from update name (as
+    ``mega-sat diff`` prints it) to cost or the :class:`~mega_sat.update_costs.UpdateCosts`
+    of :func:`load_update_costs`; updates not given cost 1.  The explanation cost is then the
+    sum of the costs instead of |E|, in the frontier, the objective, MCE and verification.  A
+    name outside Delta or a cost that is not a positive integer is an
+    :class:`~mega_sat.update_costs.UpdateCostError`.
     """
 
     def __init__(
@@ -99,6 +108,7 @@ class MegaSolver:
         timeout: float | None = None,
         joint: str | None = None,
         deadline: Deadline | None = None,
+        update_costs: Mapping[str, int] | UpdateCosts | None = None,
     ):
         if not isinstance(task, TwoModelTask):
             raise UsageError(
@@ -127,6 +137,8 @@ class MegaSolver:
             )
         self._joint = joint
         self.task = task
+        self.update_costs: tuple[int, ...] | None = cost_vector(task, update_costs)
+        """The cost of every update of ``task.delta``, or ``None`` without update costs."""
         self.engine = engine
         self._planner = planner
         self.hitting_set = hitting_set
@@ -174,7 +186,8 @@ class MegaSolver:
         return self.oracles if (self.engine == "sat" or self.planner == "sat") else None
 
     def frontier(self) -> Frontier:
-        """Every Pareto-optimal ``(|E|, robot cost)`` pair with a witness (computed once)."""
+        """Every Pareto-optimal ``(cost(E), robot cost)`` pair with a witness (computed once;
+        cost(E) is |E| without update costs)."""
         if self._frontier is None:
             if self.engine == "sat":
                 from mega_sat.sat_engine import sat_frontier
@@ -188,6 +201,7 @@ class MegaSolver:
                     joint=self.joint,
                     deadline=self.deadline,
                     progress=self.progress,
+                    update_costs=self.update_costs,
                 )
             else:
                 from mega_sat.astar_engine import astar_frontier
@@ -199,6 +213,7 @@ class MegaSolver:
                     oracles=self._oracles_if_needed(),
                     deadline=self.deadline,
                     progress=self.progress,
+                    update_costs=self.update_costs,
                 )
         return self._frontier
 
@@ -238,10 +253,11 @@ class MegaSolver:
             oracles=self._oracles_if_needed(),
             deadline=self.deadline,
             progress=self.progress,
+            update_costs=self.update_costs,
         )
 
     def explain(self, plan: Sequence[PlanStep] | None = None) -> Explanation:
-        """MCE of ``plan`` (default: a robot-optimal plan)."""
+        """MCE of ``plan`` (default: a robot-optimal plan; with update costs the cheapest)."""
         from mega_sat.mce import minimal_explanation
 
         planner = self.planner
@@ -254,6 +270,7 @@ class MegaSolver:
             oracles=self.oracles if planner == "sat" else None,
             deadline=self.deadline,
             progress=self.progress,
+            update_costs=self.update_costs,
         )
 
     def verify(
@@ -265,7 +282,8 @@ class MegaSolver:
         producer: str | None = None,
         use_val: bool = True,
     ) -> VerifyReport:
-        """Check a pair: a frontier point / MCE, or explanation names plus a plan."""
+        """Check a pair: a frontier point / MCE, or explanation names plus a plan (with update
+        costs the report states cost(E), and checks a point's reported cost)."""
         if point is not None:
             if not isinstance(point, FrontierPoint | Explanation):
                 raise UsageError(
@@ -274,12 +292,13 @@ class MegaSolver:
                 )
             sel, plan = point.selection, point.plan
             rc, hc = point.robot_cost, point.human_cost
+            reported = point.weighted_cost
         else:
             if plan is None:
                 raise UsageError("verify needs a plan")
             plan = as_plan(plan)
             sel = self.task.selection_from_names(explanation or [])
-            rc = hc = None
+            rc = hc = reported = None
         prod = producer or self.planner
         from mega_sat.verify import checker_for
 
@@ -295,6 +314,8 @@ class MegaSolver:
             use_val=use_val,
             oracles=reuse,
             deadline=self.deadline,
+            update_costs=self.update_costs,
+            explanation_cost=reported,
         )
 
 
@@ -317,5 +338,5 @@ def verify(
     task: TwoModelTask, point: FrontierPoint | Explanation | None = None, **kw
 ) -> VerifyReport:
     """Independent check of an answer (see :mod:`mega_sat.verify`)."""
-    solver_kw = {k: kw.pop(k) for k in ("engine", "planner") if k in kw}
+    solver_kw = {k: kw.pop(k) for k in ("engine", "planner", "update_costs") if k in kw}
     return MegaSolver(task, **solver_kw).verify(point, **kw)

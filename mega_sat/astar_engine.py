@@ -2,7 +2,8 @@
 
 Model-space search keyed by |E|: every node is a model ``human + E``; popping it calls an optimal
 planner for one optimal plan ``pi*`` of that model; ``OBJ_VAL = |E| + alpha * |C(pi*, M^R) -
-C*_R|`` (infinite when ``pi*`` is not executable by the robot); the minimum node is kept (``<=``,
+C*_R|`` (infinite when ``pi*`` is not executable by the robot); with update costs, |E| is
+their sum cost(E) both as the queue's key and in ``OBJ_VAL``; the minimum node is kept (``<=``,
 so a later node wins ties, as in the paper); the search stops at the first node whose ``pi*`` is
 optimal in the robot model.  Successors flip one update not yet in ``E``; a closed list stops
 re-expansion.
@@ -29,6 +30,7 @@ from mega_sat.progress import Progress
 from mega_sat.results import Frontier, FrontierPoint, Solution, exact_alpha, pareto_filter
 from mega_sat.simulate import simulate_ground
 from mega_sat.task import TwoModelTask
+from mega_sat.update_costs import explanation_cost
 
 DISCLAIMER = (
     "A* baseline: each model is judged by one optimal plan of its planner; ties "
@@ -50,12 +52,14 @@ class _Search:
         family: GroundFamily,
         planner: NodePlanner,
         progress: Progress | None = None,
+        update_costs: tuple[int, ...] | None = None,
     ):
         self.task, self.family, self.planner = task, family, planner
+        self.update_costs = update_costs
         self.t0 = time.perf_counter()
         self.deadline = planner.deadline
         self.progress = progress if progress is not None else Progress()
-        self.progress.start("astar", tuple(u.name for u in task.delta))
+        self.progress.start("astar", tuple(u.name for u in task.delta), update_costs)
         self.progress.notes.append(DISCLAIMER)
         self.robot_task = family.specialize(family.robot_selection)
         self.nodes: list[tuple[frozenset[int], tuple, int | None, int | None]] = []
@@ -75,6 +79,14 @@ class _Search:
         self.exact_planner &= r.exact
         self.progress.robot_optimal_cost = r.cost
 
+    def point(self, sel: frozenset[int], plan, rc: int, hc: int | None) -> FrontierPoint:
+        """A node as a frontier point (with its cost(E) when update costs are in use)."""
+        weighted = None if self.update_costs is None else self.cost_of(sel)
+        return FrontierPoint(tuple(self.task.names(sel)), sel, tuple(plan), rc, hc, weighted)
+
+    def cost_of(self, sel: frozenset[int]) -> int:
+        return explanation_cost(sel, self.update_costs)
+
     def run(self, alpha: float) -> tuple[frozenset[int], tuple, int | None, int | None, float]:
         """Algorithm 1; returns the minimum node ``(E, pi*, robot cost, human cost, obj)``."""
         a = exact_alpha(alpha)
@@ -84,6 +96,7 @@ class _Search:
         best = None
         best_obj = math.inf
         n = len(self.task.delta)
+        costs = self.update_costs or (1,) * n
         while fringe:
             if self.deadline.expired():
                 self._time_out()
@@ -110,12 +123,10 @@ class _Search:
                 sim = simulate_ground(self.robot_task, plan)
                 if sim.valid:
                     rc = sim.cost
-                    obj = len(sel) + a * abs(rc - self.c_robot)
+                    obj = self.cost_of(sel) + a * abs(rc - self.c_robot)
             self.nodes.append((sel, plan, rc, hc))
             if rc is not None:
-                self.progress.points.append(
-                    FrontierPoint(tuple(self.task.names(sel)), sel, tuple(plan), rc, hc)
-                )
+                self.progress.points.append(self.point(sel, plan, rc, hc))
             if obj <= best_obj:
                 best, best_obj = (sel, plan, rc, hc), obj
             if rc is not None and rc == self.c_robot:
@@ -125,7 +136,7 @@ class _Search:
                 if f not in sel:
                     nxt = sel | {f}
                     if nxt not in closed:
-                        heapq.heappush(fringe, (c + 1, next(counter), nxt))
+                        heapq.heappush(fringe, (c + costs[f], next(counter), nxt))
         if best is None or best_obj == math.inf:
             return (frozenset(), (), None, None, math.inf)
         return (*best, best_obj)
@@ -135,11 +146,7 @@ class _Search:
         self.notes.append("time limit reached before the stopping node")
 
     def frontier(self) -> Frontier:
-        pts = [
-            FrontierPoint(tuple(self.task.names(sel)), sel, tuple(plan), rc, hc)
-            for sel, plan, rc, hc in self.nodes
-            if rc is not None
-        ]
+        pts = [self.point(sel, plan, rc, hc) for sel, plan, rc, hc in self.nodes if rc is not None]
         notes = [DISCLAIMER, *self.notes]
         if not self.exact_planner:
             notes.append("some per-node planner calls were not proven optimal")
@@ -159,6 +166,7 @@ class _Search:
                 "planner_calls": self.planner.calls,
                 "planner_time_s": round(self.planner.time_s, 6),
             },
+            update_costs=self.update_costs,
         )
 
 
@@ -172,21 +180,23 @@ def astar_solve(
     oracles=None,
     deadline: Deadline | None = None,
     progress: Progress | None = None,
+    update_costs: tuple[int, ...] | None = None,
 ) -> Solution:
     """Algorithm 1 for one ``alpha``: the paper's answer, with the explored nodes as frontier.
 
     ``deadline`` (or ``timeout`` seconds from now): the search stops there with the best node
-    so far; before any node the robot can execute it raises :class:`TimeLimitReached`."""
+    so far; before any node the robot can execute it raises :class:`TimeLimitReached`.
+    ``update_costs``: a cost per update; the queue is then keyed by cost(E) instead of |E|."""
     deadline = deadline if deadline is not None else Deadline.after(timeout)
     np_ = NodePlanner(task, family, planner, oracles=oracles, deadline=deadline)
-    s = _Search(task, family, np_, progress)
+    s = _Search(task, family, np_, progress, update_costs)
     sel, plan, rc, hc, obj = s.run(alpha)
     fr = s.frontier()
     if rc is None:
         if s.timed_out:
             raise TimeLimitReached(deadline.seconds)
         raise UnsolvableError("MEGA-Search found no plan executable by the robot")
-    chosen = FrontierPoint(tuple(task.names(sel)), sel, tuple(plan), rc, hc)
+    chosen = s.point(sel, plan, rc, hc)
     return Solution(alpha, chosen, chosen.objective(alpha, fr.robot_optimal_cost), fr)
 
 
@@ -199,11 +209,12 @@ def astar_frontier(
     oracles=None,
     deadline: Deadline | None = None,
     progress: Progress | None = None,
+    update_costs: tuple[int, ...] | None = None,
 ) -> Frontier:
     """Paper property 4: one MEGA-Search, its explored nodes re-scored for every alpha
-    (``deadline``, ``timeout``: as for :func:`astar_solve`)."""
+    (``deadline``, ``timeout``, ``update_costs``: as for :func:`astar_solve`)."""
     deadline = deadline if deadline is not None else Deadline.after(timeout)
     np_ = NodePlanner(task, family, planner, oracles=oracles, deadline=deadline)
-    s = _Search(task, family, np_, progress)
+    s = _Search(task, family, np_, progress, update_costs)
     s.run(0.0)
     return s.frontier()

@@ -142,9 +142,14 @@ def best_for_selection(
 
 
 def brute_force_frontier(
-    task: TwoModelTask, family: GroundFamily, *, state_limit: int = 200_000
+    task: TwoModelTask,
+    family: GroundFamily,
+    *,
+    state_limit: int = 200_000,
+    update_costs: Sequence[int] | None = None,
 ) -> tuple[int, tuple[FrontierPoint, ...], dict[frozenset[int], BruteResult]]:
-    """``(C*_R, Pareto frontier, per-selection results)`` by enumerating every subset."""
+    """``(C*_R, Pareto frontier, per-selection results)`` by enumerating every subset; with
+    ``update_costs`` (one per update) the frontier is over (sum of costs, robot cost)."""
     n = len(task.delta)
     robot = _Space(family.specialize(family.robot_selection), state_limit)
     if robot.opt is None:
@@ -157,8 +162,11 @@ def brute_force_frontier(
             r = best_for_selection(family, sel, state_limit=state_limit)
             results[sel] = r
             if r.robot_cost is not None:
+                weighted = None if update_costs is None else sum(update_costs[i] for i in sel)
                 points.append(
-                    FrontierPoint(tuple(task.names(sel)), sel, r.plan, r.robot_cost, r.human_cost)
+                    FrontierPoint(
+                        tuple(task.names(sel)), sel, r.plan, r.robot_cost, r.human_cost, weighted
+                    )
                 )
     return robot.opt, pareto_filter(points), results
 
@@ -169,19 +177,28 @@ def brute_force_mce(
     plan: Sequence[PlanStep],
     *,
     state_limit: int = 200_000,
+    update_costs: Sequence[int] | None = None,
 ) -> int | None:
-    """Size of the smallest ``E`` making ``plan`` optimal in ``human + E`` (None: none)."""
+    """Size (with ``update_costs``: the smallest sum of costs) of the cheapest ``E`` making
+    ``plan`` optimal in ``human + E`` (None: none)."""
     from mega_sat.simulate import simulate_ground
 
     n = len(task.delta)
+    costs = update_costs if update_costs is not None else (1,) * n
+    best = None
     for k in range(n + 1):
         for combo in itertools.combinations(range(n), k):
             sel = frozenset(combo)
+            w = sum(costs[i] for i in sel)
+            if best is not None and w >= best:
+                continue
             t = family.specialize(sel)
             sim = simulate_ground(t, plan)
             if not sim.valid:
                 continue
             sp = _Space(t, state_limit)
             if sp.opt is not None and sim.cost == sp.opt:
-                return k
-    return None
+                best = w
+        if update_costs is None and best is not None:
+            return best
+    return best

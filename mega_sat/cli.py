@@ -713,6 +713,29 @@ quiet_option = click.option(
 )
 
 
+def update_costs_option(fn):
+    """``--update-costs FILE``: a cost per update, so that cost(E) replaces |E|."""
+    return click.option(
+        "--update-costs",
+        "update_costs",
+        type=click.Path(),
+        default=None,
+        metavar="FILE",
+        help="Lines 'UPDATE COST' (a positive integer; unlisted updates cost 1): the "
+        "explanation cost becomes the sum of the costs instead of |E|.",
+    )(fn)
+
+
+def _read_update_costs(path):
+    """The ``--update-costs`` file, read and parsed (names are checked against the task by
+    :func:`mega_sat.update_costs.cost_vector`); ``None`` without the option."""
+    if path is None:
+        return None
+    from mega_sat.update_costs import load_update_costs
+
+    return load_update_costs(path)
+
+
 def engine_options(fn):
     opts = [
         click.option("--engine", type=ENGINE, default="sat", show_default=True),
@@ -733,6 +756,7 @@ def engine_options(fn):
             "portfolio if some action costs 0]",
         ),
         click.option("--hitting-set", type=HITTING, default="rc2", show_default=True),
+        update_costs_option,
         click.option("--json", "as_json", is_flag=True, help="Print one JSON object."),
         click.option(
             "--verify", "do_verify", is_flag=True, help="Check every returned pair independently."
@@ -766,7 +790,8 @@ def _solver(kw, run):
     from mega_sat.api import MegaSolver
 
     engine_kw = {k: kw.pop(k) for k in ("engine", "planner", "joint", "hitting_set")}
-    s = MegaSolver(_task_from(kw), deadline=run.deadline, **engine_kw)
+    costs = _read_update_costs(kw.pop("update_costs"))
+    s = MegaSolver(_task_from(kw), deadline=run.deadline, update_costs=costs, **engine_kw)
     run.watch(s.progress)
     return s
 
@@ -784,8 +809,9 @@ def _point_text(p, c_robot, alpha=None, objective=None) -> list[str]:
     else:
         lines.append("Explanation >> (none: the plan is already optimal for the human)")
     if objective is not None:
+        cost = "" if p.weighted_cost is None else f"cost(E) = {p.weighted_cost}, "
         lines.append(
-            f"|E| = {p.size}, objective = {p.size} + {alpha:g} * "
+            f"{cost}|E| = {p.size}, objective = {p.explanation_cost} + {alpha:g} * "
             f"{p.robot_cost - c_robot} = {objective:g}"
         )
     return lines
@@ -987,7 +1013,8 @@ def frontier(run, as_json, do_verify, write_model, force, verbose, plot=None, **
             f"engine {fr.engine}; time {fr.time_s:.3f}s"
         )
         for k, p in enumerate(fr.points):
-            run.echo(f"\n[{k}] |E| = {p.size}, robot cost {p.robot_cost}")
+            cost = "" if p.weighted_cost is None else f"cost(E) = {p.weighted_cost}, "
+            run.echo(f"\n[{k}] {cost}|E| = {p.size}, robot cost {p.robot_cost}")
             for line in _point_text(p, fr.robot_optimal_cost):
                 run.echo(line)
             if k < len(reports):
@@ -1000,6 +1027,9 @@ def frontier(run, as_json, do_verify, write_model, force, verbose, plot=None, **
         if fr.next_size_lower_bound is not None:
             which = "the next (cheaper) point" if fr.points else "any point"
             run.echo(f"lower bound on |E| for {which}: {fr.next_size_lower_bound}")
+        elif fr.update_costs is not None and fr.next_cost_lower_bound is not None:
+            which = "the next (cheaper) point" if fr.points else "any point"
+            run.echo(f"lower bound on cost(E) for {which}: {fr.next_cost_lower_bound}")
     _stop_message(run)
     return _finish(run, fr, reports, verbose)
 
@@ -1015,19 +1045,27 @@ def frontier(run, as_json, do_verify, write_model, force, verbose, plot=None, **
 )
 @click.option("--planner", type=PLANNER, default="builtin", show_default=True)
 @click.option("--hitting-set", type=HITTING, default="rc2", show_default=True)
+@update_costs_option
 @click.option("--json", "as_json", is_flag=True)
 @click.option("--verify", "do_verify", is_flag=True)
 @quiet_option
 @_command
-def explain(run, plan_file, planner, hitting_set, as_json, do_verify, verbose, **kw):
+def explain(run, plan_file, planner, hitting_set, update_costs, as_json, do_verify, verbose, **kw):
     """MCE: the smallest explanation that makes a plan optimal for the human."""
     from mega_sat.api import MegaSolver
     from mega_sat.family import step_str
     from mega_sat.planio import read_plan
 
+    costs = _read_update_costs(update_costs)
     task = _task_from(kw)
     steps = read_plan(plan_file) if plan_file else None
-    s = MegaSolver(task, planner=planner, hitting_set=hitting_set, deadline=run.deadline)
+    s = MegaSolver(
+        task,
+        planner=planner,
+        hitting_set=hitting_set,
+        deadline=run.deadline,
+        update_costs=costs,
+    )
     run.watch(s.progress)
     _verbose_family(s, verbose)
     ex = s.explain(steps)
@@ -1055,8 +1093,9 @@ def explain(run, plan_file, planner, hitting_set, as_json, do_verify, verbose, *
             run.echo(f"Explanation >> {e}")
         if not ex.explanation:
             run.echo("Explanation >> (none needed)")
+        cost = "" if ex.weighted_cost is None else f"cost(E) = {ex.weighted_cost}, "
         run.echo(
-            f"|E| = {len(ex.explanation)}; time {ex.time_s:.3f}s; "
+            f"{cost}|E| = {len(ex.explanation)}; time {ex.time_s:.3f}s; "
             + ("exact: yes" if ex.exact else "exact: no (" + "; ".join(ex.notes) + ")")
         )
         _incomplete_lines(run, notes)
@@ -1079,18 +1118,31 @@ def explain(run, plan_file, planner, hitting_set, as_json, do_verify, verbose, *
     help="Planner that re-derives the optimum of human + E (default: fd when "
     "installed, else builtin: not the SAT oracle that answers OPT by default).",
 )
+@update_costs_option
 @click.option("--json", "as_json", is_flag=True)
 @_command
-def verify(run, explanation, plan_file, checker, as_json, verbose, **kw):
+def verify(run, explanation, plan_file, checker, update_costs, as_json, verbose, **kw):
     """Check a plan + explanation pair from files."""
     from mega_sat.planio import read_plan
+    from mega_sat.update_costs import cost_vector
     from mega_sat.verify import verify_pair
 
+    costs = _read_update_costs(update_costs)
     task = _task_from(kw)
+    costs = cost_vector(task, costs)
     sel = _read_explanation(task, explanation)
     steps = read_plan(plan_file)
     fam = _ground(task, run, verbose)
-    rep = verify_pair(task, fam, sel, steps, producer="sat", checker=checker, deadline=run.deadline)
+    rep = verify_pair(
+        task,
+        fam,
+        sel,
+        steps,
+        producer="sat",
+        checker=checker,
+        deadline=run.deadline,
+        update_costs=costs,
+    )
     if as_json:
         run.echo_json(rep.to_dict())
     else:

@@ -1,7 +1,8 @@
-"""Minimum-cardinality hitting sets over learned clauses: the search over subsets of Delta.
+"""Minimum-cost hitting sets over learned clauses: the search over subsets of Delta.
 
-The SAT engine asks, again and again, for a smallest explanation ``E`` (a set of update
-indices) that satisfies every clause learned so far.  A learned clause is a list of guard
+The SAT engine asks, again and again, for a cheapest explanation ``E`` (a set of update
+indices; its cost is the sum of its updates' costs, ``|E|`` when every update costs 1) that
+satisfies every clause learned so far.  A learned clause is a list of guard
 literals ``(i, v)`` ("update i is selected" if ``v``), at least one of which must hold.  Two
 interchangeable back ends, both exact: RC2 MaxSAT (python-sat) and an ILP solved by CBC (PuLP).
 Both keep every clause; RC2 also keeps its solver alive between calls.
@@ -20,12 +21,19 @@ Clause = tuple[GuardLit, ...]
 
 
 class HittingSetSolver:
-    """Interface: ``add(clause)`` and ``minimum()`` (``None`` when no selection is left)."""
+    """Interface: ``add(clause)`` and ``minimum()`` (``None`` when no selection is left).
+
+    ``costs``: a positive integer cost per update (``None``: every update costs 1); the
+    minimum is over the sum of the selected updates' costs.
+    """
 
     name = "abstract"
 
-    def __init__(self, n_updates: int):
+    def __init__(self, n_updates: int, costs: Sequence[int] | None = None):
         self.n = n_updates
+        self.costs = tuple(costs) if costs is not None else (1,) * n_updates
+        if len(self.costs) != n_updates or any(c <= 0 for c in self.costs):
+            raise ValueError("one positive cost per update")
         self.clauses: list[Clause] = []
         self.calls = 0
 
@@ -45,14 +53,14 @@ class RC2HittingSet(HittingSetSolver):
 
     name = "rc2"
 
-    def __init__(self, n_updates: int):
-        super().__init__(n_updates)
+    def __init__(self, n_updates: int, costs: Sequence[int] | None = None):
+        super().__init__(n_updates, costs)
         from pysat.examples.rc2 import RC2
         from pysat.formula import WCNF
 
         w = WCNF()
         for i in range(n_updates):
-            w.append([-(i + 1)], weight=1)
+            w.append([-(i + 1)], weight=self.costs[i])
         self._rc2 = RC2(w)
         self._unsat = False
 
@@ -79,7 +87,7 @@ class RC2HittingSet(HittingSetSolver):
 
 
 class ILPHittingSet(HittingSetSolver):
-    """0/1 ILP solved by CBC through PuLP: ``min sum x_i`` s.t. every clause is hit.
+    """0/1 ILP solved by CBC through PuLP: ``min sum cost_i x_i`` s.t. every clause is hit.
 
     CBC gets the time left before ``deadline``; a solve it cuts short raises
     :class:`TimeLimitReached` (a hitting set that is not proven minimum would break the loop's
@@ -88,8 +96,10 @@ class ILPHittingSet(HittingSetSolver):
 
     name = "ilp"
 
-    def __init__(self, n_updates: int, deadline: Deadline | None = None):
-        super().__init__(n_updates)
+    def __init__(
+        self, n_updates: int, deadline: Deadline | None = None, costs: Sequence[int] | None = None
+    ):
+        super().__init__(n_updates, costs)
         self.deadline = deadline if deadline is not None else NO_DEADLINE
 
     def minimum(self) -> frozenset[int] | None:
@@ -106,7 +116,7 @@ class ILPHittingSet(HittingSetSolver):
             warnings.simplefilter("ignore", DeprecationWarning)
             prob = pulp.LpProblem("hitting_set", pulp.LpMinimize)
             x = [pulp.LpVariable(f"e{i}", cat="Binary") for i in range(self.n)]
-            prob += pulp.lpSum(x) if x else 0
+            prob += pulp.lpSum(c * xi for c, xi in zip(self.costs, x, strict=True)) if x else 0
             for c in self.clauses:
                 prob += pulp.lpSum(x[i] if v else 1 - x[i] for i, v in c) >= 1
         status = solve_cbc(prob, time_limit=self.deadline.remaining(), gapRel=0)
@@ -126,13 +136,18 @@ BACKENDS = {"rc2": RC2HittingSet, "ilp": ILPHittingSet}
 
 
 def make_hitting_set(
-    kind: str, n_updates: int, *, deadline: Deadline | None = None
+    kind: str,
+    n_updates: int,
+    *,
+    deadline: Deadline | None = None,
+    costs: Sequence[int] | None = None,
 ) -> HittingSetSolver:
-    """A hitting-set solver; CBC (``ilp``) runs within ``deadline`` (RC2's SAT calls cannot
-    be cut short; the loop checks the deadline around them)."""
+    """A hitting-set solver minimising the sum of ``costs`` (1 per update when ``None``); CBC
+    (``ilp``) runs within ``deadline`` (RC2's SAT calls cannot be cut short; the loop checks
+    the deadline around them)."""
     if kind == "ilp":
-        return ILPHittingSet(n_updates, deadline)
+        return ILPHittingSet(n_updates, deadline, costs)
     try:
-        return BACKENDS[kind](n_updates)
+        return BACKENDS[kind](n_updates, costs)
     except KeyError:
         raise ValueError(f"unknown hitting-set solver {kind!r} (choose from rc2, ilp)") from None

@@ -24,6 +24,7 @@ from mega_sat.results import Explanation
 from mega_sat.simulate import simulate, simulate_ground
 from mega_sat.support import exclusion_clause, support, tight_support
 from mega_sat.task import TwoModelTask
+from mega_sat.update_costs import explanation_cost
 
 
 def minimal_explanation(
@@ -37,8 +38,10 @@ def minimal_explanation(
     timeout: float | None = None,
     deadline: Deadline | None = None,
     progress: Progress | None = None,
+    update_costs: tuple[int, ...] | None = None,
 ) -> Explanation:
-    """Smallest ``E`` making ``plan`` (default: a robot-optimal plan) optimal in ``human + E``.
+    """Smallest ``E`` making ``plan`` (default: a robot-optimal plan) optimal in ``human + E``
+    (with ``update_costs``: the cheapest by the sum of its updates' costs).
 
     Stops at ``deadline`` (or ``timeout`` seconds from now) with
     :class:`~mega_sat.deadline.TimeLimitReached`: a candidate that is not the smallest proves
@@ -67,7 +70,7 @@ def minimal_explanation(
     sim_r = simulate(task.robot, plan)
     if not sim_r.valid:
         raise UsageError(f"the plan is not executable in the robot model: {sim_r.reason}")
-    hs = make_hitting_set(hitting_set, len(task.delta), deadline=deadline)
+    hs = make_hitting_set(hitting_set, len(task.delta), deadline=deadline, costs=update_costs)
     calls = {"candidates": 0, "opt_calls": 0, "learned": 0}
     try:
         while True:
@@ -104,6 +107,9 @@ def minimal_explanation(
                     exact=exact,
                     notes=tuple(dict.fromkeys(notes)),
                     time_s=time.perf_counter() - t0,
+                    weighted_cost=None
+                    if update_costs is None
+                    else explanation_cost(sel, update_costs),
                     stats={
                         **calls,
                         "planner": planner,

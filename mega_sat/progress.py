@@ -2,7 +2,8 @@
 
 A run can be stopped anywhere: by its time limit (cooperatively, or by the CLI's backstop timer
 between any two bytecodes) or by SIGINT/SIGTERM.  The engines write each proven fact here the
-moment it is proven (the robot optimum, each frontier point, the current lower bound on |E|),
+moment it is proven (the robot optimum, each frontier point, the current lower bound on the
+explanation cost),
 so the caller that catches the stop can still report them, marked incomplete.
 
 The same record feeds :class:`LiveProgress`, the CLI's status line on stderr (iteration, the
@@ -24,26 +25,30 @@ from mega_sat.deadline import Deadline
 from mega_sat.results import Frontier, FrontierPoint, pareto_filter
 
 
-def lower_bound_note(bound: int, have_points: bool) -> str:
-    """What a lower bound on |E| from the hitting set proves: with points, about the solutions
-    cheaper than the last one (the loop's robot-cost bound); without, about every solution."""
+def lower_bound_note(bound: int, have_points: bool, weighted: bool = False) -> str:
+    """What a lower bound on the explanation cost (|E|, or cost(E) with update costs) from the
+    hitting set proves: with points, about the solutions cheaper than the last one (the loop's
+    robot-cost bound); without, about every solution."""
+    what = "cost(E)" if weighted else "|E|"
     if have_points:
-        return f"any solution cheaper than the last point needs |E| >= {bound}"
-    return f"no point found yet; any solution needs |E| >= {bound}"
+        return f"any solution cheaper than the last point needs {what} >= {bound}"
+    return f"no point found yet; any solution needs {what} >= {bound}"
 
 
 @dataclass
 class Progress:
     """Facts proven by one engine run; mutable on purpose (the engine appends to it).
 
-    ``points`` are real MEGA solutions (for the ``sat`` engine each with the smallest |E| for
-    its robot cost level); ``lower_bound`` is a proven lower bound on |E| of any solution
-    cheaper than the last point, or of any solution before the first (``sat`` engine only); ``notes`` are the engine's reasons why
-    its result is not exact (shared with the engine, so they are current).
+    ``points`` are real MEGA solutions (for the ``sat`` engine each with the smallest cost(E)
+    for its robot cost level); ``lower_bound`` is a proven lower bound on cost(E) (``|E|``
+    without update costs) of any solution cheaper than the last point (``sat`` engine only);
+    ``notes`` are the engine's reasons why its result is not exact (shared with the engine, so
+    they are current); ``update_costs``: the cost per update when update costs are in use.
     """
 
     engine: str = ""
     model_difference: tuple[str, ...] = ()
+    update_costs: tuple[int, ...] | None = None
     robot_optimal_cost: int | None = None
     points: list[FrontierPoint] = field(default_factory=list)
     lower_bound: int | None = None
@@ -53,9 +58,15 @@ class Progress:
     iteration: int = 0
     size: int | None = None
 
-    def start(self, engine: str, model_difference: tuple[str, ...]) -> None:
+    def start(
+        self,
+        engine: str,
+        model_difference: tuple[str, ...],
+        update_costs: tuple[int, ...] | None = None,
+    ) -> None:
         """Forget an earlier run and start recording a new one."""
         self.engine, self.model_difference = engine, model_difference
+        self.update_costs = update_costs
         self.robot_optimal_cost, self.lower_bound = None, None
         self.points, self.notes, self.stats = [], [], {}
         self.iteration, self.size = 0, None
@@ -73,8 +84,9 @@ class Progress:
         if self.robot_optimal_cost is None:
             return None
         notes = [*self.notes, reason]
+        weighted = self.update_costs is not None
         if self.lower_bound is not None:
-            notes[-1] += "; " + lower_bound_note(self.lower_bound, bool(self.points))
+            notes[-1] += "; " + lower_bound_note(self.lower_bound, bool(self.points), weighted)
         return Frontier(
             engine=self.engine,
             robot_optimal_cost=self.robot_optimal_cost,
@@ -83,9 +95,11 @@ class Progress:
             exact=False,
             complete=False,
             notes=tuple(dict.fromkeys(notes)),
-            next_size_lower_bound=self.lower_bound,
+            next_size_lower_bound=None if weighted else self.lower_bound,
             time_s=time.perf_counter() - self.t0,
             stats=dict(self.stats),
+            update_costs=self.update_costs,
+            next_cost_lower_bound=self.lower_bound,
         )
 
 

@@ -25,14 +25,21 @@ class FrontierPoint:
     plan: tuple[PlanStep, ...]
     robot_cost: int
     human_cost: int
+    weighted_cost: int | None = None
+    """The sum of the explanation's update costs when update costs are in use, else ``None``."""
 
     @property
     def size(self) -> int:
         return len(self.explanation)
 
+    @property
+    def explanation_cost(self) -> int:
+        """cost(E): the sum of the update costs, or ``|E|`` without update costs."""
+        return self.size if self.weighted_cost is None else self.weighted_cost
+
     def objective(self, alpha: float, robot_optimal_cost: int) -> float:
-        """MEGA objective (4): ``|E| + alpha * (C(pi, M^R) - C*_R)``."""
-        return self.size + alpha * (self.robot_cost - robot_optimal_cost)
+        """MEGA objective (4): ``cost(E) + alpha * (C(pi, M^R) - C*_R)``."""
+        return self.explanation_cost + alpha * (self.robot_cost - robot_optimal_cost)
 
     def to_up_plan(self, problem: Any) -> Any:
         """The plan as a unified-planning ``SequentialPlan`` of ``problem`` (see
@@ -42,22 +49,31 @@ class FrontierPoint:
         return to_up_plan(self.plan, problem)
 
     def to_dict(self) -> dict[str, Any]:
-        return {
-            "explanation": list(self.explanation),
-            "plan": [step_str(s) for s in self.plan],
-            "robot_cost": self.robot_cost,
-            "human_cost": self.human_cost,
-        }
+        d: dict[str, Any] = {"explanation": list(self.explanation)}
+        if self.weighted_cost is not None:
+            d["explanation_cost"] = self.weighted_cost
+        d.update(
+            {
+                "plan": [step_str(s) for s in self.plan],
+                "robot_cost": self.robot_cost,
+                "human_cost": self.human_cost,
+            }
+        )
+        return d
 
 
 @dataclass(frozen=True)
 class Frontier:
-    """Pareto-optimal pairs ``(|E|, robot cost)``, ordered by explanation size.
+    """Pareto-optimal pairs ``(cost(E), robot cost)``, ordered by explanation cost (``|E|``
+    without update costs).
 
-    ``exact`` is true only when every point is proven (minimal |E| for its robot cost, optimal
-    human cost, complete frontier).  ``complete`` is false when a time limit stopped the engine
-    early; then ``next_size_lower_bound`` is a proven lower bound on |E| for any solution cheaper
-    for the robot than the last point found (for any solution, when no point was found).
+    ``exact`` is true only when every point is proven (minimal cost(E) for its robot cost,
+    optimal human cost, complete frontier).  ``complete`` is false when a time limit stopped the
+    engine early; then ``next_cost_lower_bound`` is a proven lower bound on cost(E) for any
+    solution cheaper for the robot than the last point found, or for any solution when no point was found
+    (``next_size_lower_bound`` the
+    same bound on |E|, given without update costs, where the two are one).  ``update_costs``:
+    the cost of every update of ``model_difference`` when update costs are in use.
     """
 
     engine: str
@@ -70,20 +86,29 @@ class Frontier:
     next_size_lower_bound: int | None = None
     time_s: float = 0.0
     stats: dict[str, Any] = field(default_factory=dict, compare=False)
+    update_costs: tuple[int, ...] | None = None
+    next_cost_lower_bound: int | None = None
 
     def to_dict(self) -> dict[str, Any]:
-        return {
+        d: dict[str, Any] = {
             "engine": self.engine,
             "robot_optimal_cost": self.robot_optimal_cost,
             "model_difference": list(self.model_difference),
-            "frontier": [p.to_dict() for p in self.points],
-            "exact": self.exact,
-            "complete": self.complete,
-            "next_size_lower_bound": self.next_size_lower_bound,
-            "notes": list(self.notes),
-            "time_s": round(self.time_s, 6),
-            "stats": self.stats,
         }
+        if self.update_costs is not None:
+            d["update_costs"] = dict(zip(self.model_difference, self.update_costs, strict=True))
+        d.update(
+            {
+                "frontier": [p.to_dict() for p in self.points],
+                "exact": self.exact,
+                "complete": self.complete,
+                "next_size_lower_bound": self.next_size_lower_bound,
+            }
+        )
+        if self.update_costs is not None:
+            d["next_cost_lower_bound"] = self.next_cost_lower_bound
+        d.update({"notes": list(self.notes), "time_s": round(self.time_s, 6), "stats": self.stats})
+        return d
 
     def to_json(self, indent: int | None = 2) -> str:
         return json.dumps(self.to_dict(), indent=indent)
@@ -91,8 +116,8 @@ class Frontier:
 
 @dataclass(frozen=True)
 class Solution:
-    """The pair chosen for one ``alpha`` (SPEC tie-breaking: objective, then robot cost, then
-    |E|), with the frontier it was chosen from."""
+    """The pair chosen for one ``alpha`` (tie-breaking: objective, then robot cost, then
+    cost(E)), with the frontier it was chosen from."""
 
     alpha: float
     chosen: FrontierPoint
@@ -119,7 +144,8 @@ class Solution:
 
 @dataclass(frozen=True)
 class Explanation:
-    """An MCE: the smallest ``E`` that makes one given plan optimal in ``human + E``."""
+    """An MCE: the smallest ``E`` that makes one given plan optimal in ``human + E`` (with
+    update costs: the cheapest, ``weighted_cost`` its sum of costs)."""
 
     plan: tuple[PlanStep, ...]
     explanation: tuple[str, ...]
@@ -130,18 +156,31 @@ class Explanation:
     notes: tuple[str, ...] = ()
     time_s: float = 0.0
     stats: dict[str, Any] = field(default_factory=dict, compare=False)
+    weighted_cost: int | None = None
+
+    @property
+    def explanation_cost(self) -> int:
+        """cost(E): the sum of the update costs, or ``|E|`` without update costs."""
+        return len(self.explanation) if self.weighted_cost is None else self.weighted_cost
 
     def to_dict(self) -> dict[str, Any]:
-        return {
+        d: dict[str, Any] = {
             "plan": [step_str(s) for s in self.plan],
             "explanation": list(self.explanation),
-            "robot_cost": self.robot_cost,
-            "human_cost": self.human_cost,
-            "exact": self.exact,
-            "notes": list(self.notes),
-            "time_s": round(self.time_s, 6),
-            "stats": self.stats,
         }
+        if self.weighted_cost is not None:
+            d["explanation_cost"] = self.weighted_cost
+        d.update(
+            {
+                "robot_cost": self.robot_cost,
+                "human_cost": self.human_cost,
+                "exact": self.exact,
+                "notes": list(self.notes),
+                "time_s": round(self.time_s, 6),
+                "stats": self.stats,
+            }
+        )
+        return d
 
     def to_up_plan(self, problem: Any) -> Any:
         """The plan as a unified-planning ``SequentialPlan`` of ``problem`` (see
@@ -155,17 +194,17 @@ class Explanation:
 
 
 def pareto_filter(points: Sequence[FrontierPoint]) -> tuple[FrontierPoint, ...]:
-    """Keep the Pareto-optimal points (minimise |E| and robot cost), one per (|E|, cost) pair,
-    ordered by |E|; among equal pairs the first given wins."""
+    """Keep the Pareto-optimal points (minimise cost(E) and robot cost), one per (cost(E),
+    robot cost) pair, ordered by cost(E); among equal pairs the first given wins."""
     best: dict[tuple[int, int], FrontierPoint] = {}
     for p in points:
-        best.setdefault((p.size, p.robot_cost), p)
+        best.setdefault((p.explanation_cost, p.robot_cost), p)
     out: list[FrontierPoint] = []
     for key in sorted(best):
         p = best[key]
         if out and out[-1].robot_cost <= p.robot_cost:
-            continue  # dominated by a smaller explanation at no higher cost
-        if out and out[-1].size == p.size:
+            continue  # dominated by a cheaper explanation at no higher cost
+        if out and out[-1].explanation_cost == p.explanation_cost:
             continue
         out.append(p)
     return tuple(out)
@@ -174,7 +213,7 @@ def pareto_filter(points: Sequence[FrontierPoint]) -> tuple[FrontierPoint, ...]:
 def choose(frontier: Frontier, alpha: float) -> Solution:
     """Pick the frontier point minimising MEGA's objective for ``alpha``.
 
-    Ties: lower robot cost, then smaller |E| (docs/index.md).  Because the frontier holds every
+    Ties: lower robot cost, then smaller cost(E) (docs/index.md).  Because the frontier holds every
     Pareto-optimal pair, this is the optimum over all MEGA solutions (paper property 4).
     """
     check_alpha(alpha)
@@ -188,7 +227,12 @@ def choose(frontier: Frontier, alpha: float) -> Solution:
     c = frontier.robot_optimal_cost
     a = exact_alpha(alpha)
     best = min(
-        frontier.points, key=lambda p: (p.size + a * (p.robot_cost - c), p.robot_cost, p.size)
+        frontier.points,
+        key=lambda p: (
+            p.explanation_cost + a * (p.robot_cost - c),
+            p.robot_cost,
+            p.explanation_cost,
+        ),
     )
     return Solution(alpha, best, best.objective(alpha, c), frontier)
 

@@ -3,7 +3,7 @@
 Loop (encodings/hitting-set.md), from the explicable end toward the robot-optimal end::
 
     K = inf; learned = []
-    E = smallest selection satisfying learned          (hitting set: RC2 or CBC)
+    E = cheapest selection satisfying learned          (hitting set: RC2 or CBC)
     c*, pi* = OPT(E)                                    (optimal human cost of human + E)
     JOINT(E, K, c*) -> a plan pi: new frontier point; stop if robot-optimal; K = cost(pi) - 1
                     -> a core:    learned += NOT(E restricted to core ∪ support(pi*))
@@ -11,9 +11,10 @@ Loop (encodings/hitting-set.md), from the explicable end toward the robot-optima
 ``support(pi*)`` is the tight support of :func:`mega_sat.support.tight_support`: only the
 updates whose flip could make ``pi*`` fail or cost more.
 
-Each success is the smallest |E| that admits a solution with robot cost <= K, because learned
-clauses only ever remove selections that provably have no such solution (argument in
-``encodings/hitting-set.md``); the clauses stay valid as K decreases, so they are kept.
+Each success is the smallest cost(E) (``|E|``, or the sum of the update costs when they are
+given) that admits a solution with robot cost <= K, because learned clauses only ever remove
+selections that provably have no such solution (argument in ``encodings/hitting-set.md``);
+the clauses stay valid as K decreases, so they are kept.
 """
 
 from __future__ import annotations
@@ -29,6 +30,7 @@ from mega_sat.results import Frontier, FrontierPoint, pareto_filter
 from mega_sat.support import exclusion_clause, tight_support, unsolvable_core
 from mega_sat.task import TwoModelTask
 from mega_sat.tiered_opt import TieredOpt
+from mega_sat.update_costs import explanation_cost
 
 
 def default_planner(engine: str, family: GroundFamily) -> str:
@@ -62,6 +64,7 @@ def sat_frontier(
     core_search_factor: float = 3.0,
     deadline: Deadline | None = None,
     progress: Progress | None = None,
+    update_costs: tuple[int, ...] | None = None,
 ) -> Frontier:
     """Compute the Pareto frontier of MEGA solutions with the hitting-set loop.
 
@@ -81,10 +84,14 @@ def sat_frontier(
     abstractions for up to this many times the time OPT took to prove them unsolvable.
 
     ``deadline`` (or ``timeout`` seconds from now) makes the loop anytime: at the deadline it
-    returns the points proven so far, marked incomplete, with a lower bound on |E| of the next
-    point; before the robot optimum is known it raises :class:`TimeLimitReached` (nothing to
-    report).  ``progress`` receives every proven fact as it is proven, for a caller whose run
+    returns the points proven so far, marked incomplete, with a lower bound on cost(E) of the
+    next point; before the robot optimum is known it raises :class:`TimeLimitReached` (nothing
+    to report).  ``progress`` receives every proven fact as it is proven, for a caller whose run
     is stopped from outside (an interrupt, the CLI's backstop timer).
+
+    ``update_costs``: a positive integer cost per update of ``task.delta``; the explanation
+    cost is then their sum instead of |E| (the hitting set minimises it), and the frontier is
+    over (cost(E), robot cost).
     """
     planner = default_planner("sat", family) if planner is None else planner
     joint = default_joint(family) if joint is None else joint
@@ -100,7 +107,7 @@ def sat_frontier(
         deadline = Deadline.after(timeout)
     stop_at = deadline.at  # a time.perf_counter() value, or None
     progress = progress if progress is not None else Progress()
-    progress.start("sat", tuple(u.name for u in task.delta))
+    progress.start("sat", tuple(u.name for u in task.delta), update_costs)
     orc = oracles if oracles is not None else SatOracles(family, solver=solver)
     earlier_deadline = getattr(orc, "deadline", None)
     if stop_at is not None and hasattr(orc, "set_deadline"):
@@ -134,7 +141,12 @@ def sat_frontier(
     robot_lb = c_robot if robot.exact else None  # a proven lower bound on any robot plan
     progress.robot_optimal_cost = c_robot
 
-    hs = make_hitting_set(hitting_set, len(task.delta), deadline=deadline)
+    hs = make_hitting_set(hitting_set, len(task.delta), deadline=deadline, costs=update_costs)
+
+    def cost_of(sel) -> int:
+        return explanation_cost(sel, update_costs)
+
+    weighted = update_costs is not None
     opt_cache: dict[frozenset[int], object] = {}
     points: list[FrontierPoint] = []
     bound: int | None = None  # K: robot cost must be <= K (None: unbounded)
@@ -166,12 +178,12 @@ def sat_frontier(
                 raise
             lower_bound = progress.lower_bound or 0
         else:
-            lower_bound = None if nxt is None else len(nxt)
+            lower_bound = None if nxt is None else cost_of(nxt)
             complete = nxt is None
         if not complete:
             notes.append(
                 f"time limit {deadline.seconds}s reached: frontier incomplete; "
-                + lower_bound_note(lower_bound, bool(points))
+                + lower_bound_note(lower_bound, bool(points), weighted)
             )
 
     progress.stats = stats
@@ -190,9 +202,9 @@ def sat_frontier(
             if sel is None:
                 complete = True
                 break
-            # every selection smaller than sel is excluded by clauses that hold for any
-            # robot-cost bound <= K, so a solution cheaper than the last point needs |sel|
-            progress.lower_bound = len(sel)
+            # every selection cheaper than sel is excluded by clauses that hold for any
+            # robot-cost bound <= K, so a solution cheaper than the last point costs cost(sel)
+            progress.lower_bound = cost_of(sel)
             progress.step(len(sel))
             stats["iterations"] += 1
             opt = opt_cache.get(sel)
@@ -277,7 +289,12 @@ def sat_frontier(
             if res.plan is not None:
                 points.append(
                     FrontierPoint(
-                        tuple(task.names(sel)), sel, tuple(res.plan), res.robot_cost, res.human_cost
+                        tuple(task.names(sel)),
+                        sel,
+                        tuple(res.plan),
+                        res.robot_cost,
+                        res.human_cost,
+                        cost_of(sel) if weighted else None,
                     )
                 )
                 progress.points.append(points[-1])
@@ -301,7 +318,7 @@ def sat_frontier(
         exact=exact and complete,
         complete=complete,
         notes=tuple(dict.fromkeys(notes)),
-        next_size_lower_bound=lower_bound,
+        next_size_lower_bound=None if weighted else lower_bound,
         time_s=time.perf_counter() - t0,
         stats={
             **stats,
@@ -315,6 +332,8 @@ def sat_frontier(
             "hitting_set_calls": hs.calls,
             **getattr(orc, "stats", {}),
         },
+        update_costs=update_costs,
+        next_cost_lower_bound=lower_bound,
     )
 
 

@@ -27,22 +27,35 @@ class Check:
 
 @dataclass(frozen=True)
 class VerifyReport:
-    """All checks of one pair; ``ok`` only if every check passed."""
+    """All checks of one pair; ``ok`` only if every check passed.  ``explanation_cost``: the
+    explanation's cost(E) under the update costs, when they are in use (``size``: its |E|)."""
 
     checks: tuple[Check, ...]
+    explanation_cost: int | None = None
+    size: int | None = None
 
     @property
     def ok(self) -> bool:
         return all(c.ok for c in self.checks)
 
     def lines(self) -> list[str]:
-        return [f"{'ok  ' if c.ok else 'FAIL'} {c.name}: {c.detail}" for c in self.checks]
+        out = [f"{'ok  ' if c.ok else 'FAIL'} {c.name}: {c.detail}" for c in self.checks]
+        if self.explanation_cost is not None:
+            out.append(
+                f"explanation cost under the update costs: cost(E) = {self.explanation_cost}, "
+                f"|E| = {self.size}"
+            )
+        return out
 
     def to_dict(self) -> dict:
-        return {
+        d: dict = {
             "ok": self.ok,
             "checks": [{"name": c.name, "ok": c.ok, "detail": c.detail} for c in self.checks],
         }
+        if self.explanation_cost is not None:
+            d["explanation_cost"] = self.explanation_cost
+            d["size"] = self.size
+        return d
 
 
 def checker_for(producer: str) -> str:
@@ -71,8 +84,13 @@ def verify_pair(
     checker: str | None = None,
     oracles=None,
     deadline: Deadline | None = None,
+    update_costs: tuple[int, ...] | None = None,
+    explanation_cost: int | None = None,
 ) -> VerifyReport:
     """Check one answer; ``robot_cost``/``human_cost``, when given, must match the simulation.
+
+    ``update_costs`` (one per update): the report states cost(E) under them, and a reported
+    ``explanation_cost``, when given, must equal it.
 
     ``oracles``: live SAT oracles of this task, reused when the checker is ``sat``.  The
     checker's planner stops at ``deadline`` with :class:`~mega_sat.deadline.TimeLimitReached`
@@ -149,4 +167,17 @@ def verify_pair(
                         f"cost {v.cost}" if v.valid else v.message,
                     )
                 )
-    return VerifyReport(tuple(checks))
+    if update_costs is None:
+        return VerifyReport(tuple(checks))
+    from mega_sat.update_costs import explanation_cost as cost_of
+
+    cost = cost_of(selection, update_costs)
+    if explanation_cost is not None:
+        checks.append(
+            Check(
+                "explanation cost as reported",
+                cost == explanation_cost,
+                f"reported {explanation_cost}, update costs give {cost}",
+            )
+        )
+    return VerifyReport(tuple(checks), cost, len(selection))
