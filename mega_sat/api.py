@@ -32,9 +32,11 @@ from mega_sat.task import TwoModelTask
 from mega_sat.verify import VerifyReport, verify_pair
 
 ENGINES = ("sat", "astar")
+EXPLANATION_KINDS = ("mce", "mme")
 
 __all__ = [
     "ENGINES",
+    "EXPLANATION_KINDS",
     "MegaSolver",
     "default_joint",
     "default_planner",
@@ -245,12 +247,20 @@ class MegaSolver:
             progress=self.progress,
         )
 
-    def explain(self, plan: Sequence[PlanStep] | None = None) -> Explanation:
-        """MCE of ``plan`` (default: a robot-optimal plan)."""
+    def explain(self, plan: Sequence[PlanStep] | None = None, kind: str = "mce") -> Explanation:
+        """MCE (``kind="mce"``) or MME (``kind="mme"``) of ``plan`` (default: a robot-optimal
+        plan).  An MME exists only for a plan optimal in the robot model; another plan is
+        refused with a :class:`~mega_sat.errors.UsageError` naming its cost and the optimum."""
+        if kind not in EXPLANATION_KINDS:
+            raise UsageError(
+                f"unknown explanation kind {kind!r} (choose from {', '.join(EXPLANATION_KINDS)})"
+            )
         from mega_sat.mce import minimal_explanation
+        from mega_sat.mme import minimally_monotonic_explanation
 
         planner = self.planner
-        return minimal_explanation(
+        compute = minimal_explanation if kind == "mce" else minimally_monotonic_explanation
+        return compute(
             self.task,
             self.family,
             None if plan is None else as_plan(plan),
@@ -312,9 +322,12 @@ def solve(task: TwoModelTask, alpha: float, *, engine: str = "sat", **kw) -> Sol
     return MegaSolver(task, engine=engine, **kw).solve(alpha)
 
 
-def explain(task: TwoModelTask, plan: Sequence[PlanStep] | None = None, **kw) -> Explanation:
-    """The MCE of ``plan`` (default: a robot-optimal plan)."""
-    return MegaSolver(task, **kw).explain(plan)
+def explain(
+    task: TwoModelTask, plan: Sequence[PlanStep] | None = None, *, kind: str = "mce", **kw
+) -> Explanation:
+    """The MCE (or, with ``kind="mme"``, the MME) of ``plan`` (default: a robot-optimal
+    plan)."""
+    return MegaSolver(task, **kw).explain(plan, kind=kind)
 
 
 def verify(

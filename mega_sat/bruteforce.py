@@ -185,3 +185,29 @@ def brute_force_mce(
             if sp.opt is not None and sim.cost == sp.opt:
                 return k
     return None
+
+
+def brute_force_mme(
+    task: TwoModelTask,
+    family: GroundFamily,
+    plan: Sequence[PlanStep],
+    *,
+    state_limit: int = 200_000,
+) -> int | None:
+    """Size of the smallest ``E`` such that ``plan`` is optimal in ``human + E'`` for every
+    ``E <= E' <= Delta`` (None: none, i.e. ``plan`` is not optimal in the robot model)."""
+    from mega_sat.simulate import simulate_ground
+
+    n = len(task.delta)
+    optimal = []
+    for mask in range(1 << n):
+        t = family.specialize(i for i in range(n) if mask >> i & 1)
+        sim = simulate_ground(t, plan)
+        optimal.append(sim.valid and sim.cost == _Space(t, state_limit).opt)
+    monotonic = [False] * (1 << n)
+    for mask in reversed(range(1 << n)):  # every superset comes first
+        monotonic[mask] = optimal[mask] and all(
+            monotonic[mask | 1 << i] for i in range(n) if not mask >> i & 1
+        )
+    sizes = [bin(m).count("1") for m in range(1 << n) if monotonic[m]]
+    return min(sizes, default=None)

@@ -958,11 +958,17 @@ def frontier(run, as_json, do_verify, write_model, force, verbose, **kw):
 )
 @click.option("--planner", type=PLANNER, default="builtin", show_default=True)
 @click.option("--hitting-set", type=HITTING, default="rc2", show_default=True)
+@click.option(
+    "--mme",
+    is_flag=True,
+    help="MME instead of MCE (the plan must be robot-optimal).",
+)
 @click.option("--json", "as_json", is_flag=True)
 @click.option("--verify", "do_verify", is_flag=True)
 @_command
-def explain(run, plan_file, planner, hitting_set, as_json, do_verify, verbose, **kw):
-    """MCE: the smallest explanation that makes a plan optimal for the human."""
+def explain(run, plan_file, planner, hitting_set, mme, as_json, do_verify, verbose, **kw):
+    """MCE: the smallest explanation that makes a plan optimal for the human (--mme: MME,
+    the smallest that keeps it optimal whatever else the human is told)."""
     from mega_sat.api import MegaSolver
     from mega_sat.family import step_str
     from mega_sat.planio import read_plan
@@ -971,7 +977,7 @@ def explain(run, plan_file, planner, hitting_set, as_json, do_verify, verbose, *
     steps = read_plan(plan_file) if plan_file else None
     s = MegaSolver(task, planner=planner, hitting_set=hitting_set, deadline=run.deadline)
     _verbose_family(s, verbose)
-    ex = s.explain(steps)
+    ex = s.explain(steps, kind="mme" if mme else "mce")
     rep, notes = None, []
     if do_verify:
         try:
@@ -997,7 +1003,7 @@ def explain(run, plan_file, planner, hitting_set, as_json, do_verify, verbose, *
         if not ex.explanation:
             run.echo("Explanation >> (none needed)")
         run.echo(
-            f"|E| = {len(ex.explanation)}; time {ex.time_s:.3f}s; "
+            f"|E| = {len(ex.explanation)}{' (MME)' if mme else ''}; time {ex.time_s:.3f}s; "
             + ("exact: yes" if ex.exact else "exact: no (" + "; ".join(ex.notes) + ")")
         )
         _incomplete_lines(run, notes)

@@ -105,7 +105,9 @@ class Solution:
 
 @dataclass(frozen=True)
 class Explanation:
-    """An MCE: the smallest ``E`` that makes one given plan optimal in ``human + E``."""
+    """An MCE (``kind`` ``mce``): the smallest ``E`` that makes one given plan optimal in
+    ``human + E``; or an MME (``kind`` ``mme``): the smallest ``E`` that keeps it optimal in
+    ``human + E'`` for every ``E <= E' <= Delta``."""
 
     plan: tuple[PlanStep, ...]
     explanation: tuple[str, ...]
@@ -116,9 +118,13 @@ class Explanation:
     notes: tuple[str, ...] = ()
     time_s: float = 0.0
     stats: dict[str, Any] = field(default_factory=dict, compare=False)
+    kind: str = "mce"
 
     def to_dict(self) -> dict[str, Any]:
+        # "kind" is written for MME only: MCE's JSON keeps the keys it always had
+        head: dict[str, Any] = {} if self.kind == "mce" else {"kind": self.kind}
         return {
+            **head,
             "plan": [step_str(s) for s in self.plan],
             "explanation": list(self.explanation),
             "robot_cost": self.robot_cost,
