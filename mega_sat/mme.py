@@ -309,19 +309,19 @@ def cheaper_superset(
 
 
 def _cheaper_impossible(family: GroundFamily, plan_acts, selection: frozenset[int]) -> bool:
-    """LM-cut of the abstraction of every superset of ``selection`` reaches ``plan``'s least
-    cost over those supersets: no superset has a cheaper plan (a cheap proof that often
-    settles the final candidate without a search)."""
+    """LM-cut of the abstraction of every superset of ``selection`` reaches ``plan``'s
+    greatest cost over those supersets: no superset has a cheaper plan (a cheap proof that
+    often settles the final candidate without a search)."""
     from mega_sat.abstraction import abstract_task
     from mega_sat.search import RelaxedTask
 
-    least = 0
+    greatest = 0
     for a in plan_acts:
-        least += min(
+        greatest += max(
             v for guards, v in a.cost if all(i not in selection or val for i, val in guards)
         )
     abstraction = abstract_task(family, selection, selection)
-    return RelaxedTask(abstraction).lmcut(sorted(abstraction.init)) >= least
+    return RelaxedTask(abstraction).lmcut(sorted(abstraction.init)) >= greatest
 
 
 def minimally_monotonic_explanation(

@@ -66,11 +66,36 @@ def nav_maps(draw) -> TwoModelTask:
     return TwoModelTask.from_models(robot, replace(robot, init=frozenset(human_init)))
 
 
+@st.composite
+def cost_tasks(draw) -> TwoModelTask:
+    """2-4 schemas reaching ``done`` directly or through ``half``, with random costs 0-3 in
+    each model: the plan's own cost and its rivals' change with the updates (and may be 0)."""
+    from mega_sat.model import Model, Schema
+
+    shapes = [
+        (frozenset(), frozenset({("done",)})),
+        (frozenset(), frozenset({("half",)})),
+        (frozenset({("half",)}), frozenset({("done",)})),
+    ]
+    names = [f"s{k}" for k in range(draw(st.integers(2, 4)))]
+    shape = {n: draw(st.sampled_from(shapes)) for n in names}
+
+    def model(costs):
+        schemas = {n: Schema(n, (), pre=shape[n][0], add=shape[n][1], cost=costs[n]) for n in names}
+        return Model("d", "p", {"done": 0, "half": 0}, schemas, frozenset(), frozenset(),
+                     frozenset({("done",)}), uses_costs=True)  # fmt: skip
+
+    robot = {n: draw(st.integers(0, 3)) for n in names}
+    human = {n: draw(st.integers(0, 3)) for n in names}
+    return TwoModelTask.from_models(model(robot), model(human))
+
+
 TASKS = st.one_of(
     two_model_tasks(max_delta=6),
     two_model_tasks(max_delta=5, allow_zero_cost=True),
     tradeoff_tasks(),
     nav_maps(),
+    cost_tasks(),
 )
 
 
@@ -163,6 +188,31 @@ def test_hidden_trap_tells_mme_from_mce():
     s = MegaSolver(task)
     assert s.explain(kind="mme").explanation == mme.explanation
     assert s.explain().explanation == ()
+
+
+def _cost_trap(robot_costs: dict[str, int], human_costs: dict[str, int]) -> TwoModelTask:
+    from mega_sat.model import Model, Schema
+
+    def model(costs):
+        schemas = {n: Schema(n, (), add=frozenset({("done",)}), cost=c) for n, c in costs.items()}
+        return Model("d", "p", {"done": 0}, schemas, frozenset(), frozenset(),
+                     frozenset({("done",)}), uses_costs=True)  # fmt: skip
+
+    return TwoModelTask.from_models(model(robot_costs), model(human_costs))
+
+
+def test_cost_updates_of_the_plan_are_a_trap_too():
+    """The plan (a) costs 2 for the robot and 1 for the human; b costs 3 and 1.  Both cost 1
+    for the human: (a) is optimal; told only a's true cost, the human prefers b, so the MME
+    must also correct b's cost.  (The abstraction's bound must use the plan's greatest cost
+    over the supersets, not its cost in the candidate.)"""
+    task = _cost_trap({"a": 2, "b": 3}, {"a": 1, "b": 1})
+    fam = ground(task)
+    plan = (("a",),)
+    assert minimal_explanation(task, fam, plan).explanation == ()
+    mme = minimally_monotonic_explanation(task, fam, plan)
+    assert mme.explanation == ("add-b-has-cost-3",)
+    assert brute_force_mme(task, fam, plan) == 1
 
 
 def test_usar_like_mme_equals_mce():
