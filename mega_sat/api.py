@@ -279,7 +279,9 @@ class MegaSolver:
         producer: str | None = None,
         use_val: bool = True,
     ) -> VerifyReport:
-        """Check a pair: a frontier point / MCE, or explanation names plus a plan."""
+        """Check a pair: a frontier point / MCE / MME, or explanation names plus a plan.  An
+        MME's check also covers every strict superset of ``E`` (when there are at most
+        :data:`~mega_sat.verify.SUPERSET_CHECK_LIMIT`; otherwise it is listed as skipped)."""
         if point is not None:
             if not isinstance(point, FrontierPoint | Explanation):
                 raise UsageError(
@@ -298,7 +300,7 @@ class MegaSolver:
         from mega_sat.verify import checker_for
 
         reuse = self.oracles if checker_for(prod) == "sat" else None
-        return verify_pair(
+        report = verify_pair(
             self.task,
             self.family,
             sel,
@@ -310,6 +312,24 @@ class MegaSolver:
             oracles=reuse,
             deadline=self.deadline,
         )
+        if isinstance(point, Explanation) and point.kind == "mme":
+            from dataclasses import replace
+
+            from mega_sat.verify import verify_supersets
+
+            extra = verify_supersets(
+                self.task,
+                self.family,
+                sel,
+                plan,
+                checker=checker_for(prod),
+                oracles=reuse,
+                deadline=self.deadline,
+            )
+            if isinstance(extra, str):
+                return replace(report, skipped=(*report.skipped, extra))
+            return replace(report, checks=(*report.checks, extra))
+        return report
 
 
 def frontier(task: TwoModelTask, *, engine: str = "sat", **kw) -> Frontier:

@@ -322,3 +322,29 @@ def test_cli_refuses_a_plan_not_robot_optimal():
     js = run("explain", "--task", USAR, "--mme", "--plan", EXPLICABLE, "--json")
     assert js.exit_code == 2
     assert json.loads(js.stdout)["exit_code"] == 2
+
+
+def test_verify_covers_the_supersets():
+    """``verify`` of an MME re-checks every strict superset with another planner: the MME of
+    the trap passes, the MCE passed off as an MME fails on the superset with the new corridor,
+    and past the limit the check is listed as skipped."""
+    from dataclasses import replace
+
+    task = load_task_dir(str(TRAP))
+    s = MegaSolver(task)
+    mme = s.explain(kind="mme")
+    rep = s.verify(mme, use_val=False)
+    assert rep.ok, rep.lines()
+    assert rep.lines()[-1].startswith("ok   optimal in every human + E' with E < E' <= Delta")
+    fake = replace(mme, explanation=(), selection=frozenset(), kind="mme")
+    bad = s.verify(fake, use_val=False)
+    assert not bad.ok
+    assert bad.lines()[-1] == (
+        "FAIL optimal in every human + E' with E < E' <= Delta: with "
+        "add-has-initial-state-clear_path p1 p9 also explained: optimum 3; plan: 4"
+    )
+    from mega_sat.verify import verify_supersets
+
+    skipped = verify_supersets(task, s.family, frozenset(), mme.plan, checker="builtin", limit=2)
+    assert skipped == "optimal in every human + E' with E < E' <= Delta: 3 supersets, more than 2"
+    assert s.verify(s.explain(), use_val=False).lines()[-1].startswith("ok   optimal in human + E")
