@@ -95,24 +95,40 @@ def _branches(d: _Decisions, indices: set[int]):
         yield _Decisions(on, off)
 
 
-def _effect_updates(action, s: int, d: _Decisions, relevant: int) -> set[int]:
-    """The free updates whose value changes the relevant part of ``action``'s successor of
+EffectGroup = tuple[int, tuple[Guard, ...], tuple[Guard, ...]]
+"""A relevant atom an action adds or deletes under some guard: ``(atom, add guards, delete
+guards)``."""
+
+
+def _effect_groups(action, relevant: int) -> tuple[EffectGroup, ...]:
+    """The relevant atoms whose fate under ``action`` can depend on the selection (an atom
+    with an unguarded add is always added; one with unguarded entries only is fixed)."""
+    atoms = sorted({p for p, _ in action.add + action.delete if relevant >> p & 1})
+    out = []
+    for p in atoms:
+        adds = tuple(g for q, g in action.add if q == p)
+        dels = tuple(g for q, g in action.delete if q == p)
+        if None in adds or all(g is None for g in adds + dels):
+            continue
+        out.append((p, adds, dels))
+    return tuple(out)
+
+
+def _effect_updates(groups: tuple[EffectGroup, ...], s: int, d: _Decisions) -> set[int]:
+    """The free updates whose value changes the relevant part of an action's successor of
     ``s`` (delete-then-add: an atom ends true iff an add is present, or it was true and no
     delete is present)."""
     out: set[int] = set()
-    atoms = {p for p, _ in action.add + action.delete if relevant >> p & 1}
-    for p in atoms:
-        adds = [g for q, g in action.add if q == p]
-        dels = [g for q, g in action.delete if q == p]
+    for p, adds, dels in groups:
         st_add = [d.status(g) for g in adds]
-        if any(st is True for st in st_add):
+        if True in st_add:
             continue  # added whatever else happens
         free_add = {g[0] for g, st in zip(adds, st_add, strict=True) if st is None}
         if not s >> p & 1:
             out |= free_add
             continue
         st_del = [d.status(g) for g in dels]
-        if not any(st is not False for st in st_del):
+        if all(st is False for st in st_del):
             continue  # true and never deleted
         out |= free_add
         out |= {g[0] for g, st in zip(dels, st_del, strict=True) if st is None}
@@ -204,6 +220,7 @@ def failing_superset(
             relevant |= 1 << p
     for p, _ in family.goal:
         relevant |= 1 << p
+    groups = {a.step: _effect_groups(a, relevant) for a in acts}
     start = _Decisions(sum(1 << i for i in selection), 0)
     layer = set(_initial(family, start, relevant))
     full = (1 << family.n_updates) - 1
@@ -222,7 +239,7 @@ def failing_superset(
             for p, g in a.negpre:
                 if s >> p & 1 and (fail := d.make(g, True)) is not None:
                     return witness(fail)
-            for d2 in _branches(d, _effect_updates(a, s, d, relevant)):
+            for d2 in _branches(d, _effect_updates(groups[a.step], s, d)):
                 nxt.add((_successor(a, s, d2, relevant), d2))
         layer = nxt
     for s, d in layer:
@@ -254,6 +271,18 @@ def cheaper_superset(
             relevant |= 1 << p
     for p, _ in family.goal:
         relevant |= 1 << p
+    # the conditions without a guard as masks (most actions fail one at most nodes), and the
+    # effects that can depend on the selection
+    unguarded = [
+        (
+            j,
+            a,
+            sum(1 << p for p, g in a.pre if g is None),
+            sum(1 << p for p, g in a.negpre if g is None),
+            _effect_groups(a, relevant),
+        )
+        for j, a in enumerate(acts)
+    ]
     plan_acts = [acts[family.action_index[tuple(s)]] for s in plan]
     pi_costs = {i for a in plan_acts for guards, _ in a.cost for i, _ in guards}
     full = (1 << family.n_updates) - 1
@@ -288,11 +317,14 @@ def cheaper_superset(
         expanded += 1
         if expanded % 256 == 0:
             deadline.check()
-        for j, a in enumerate(acts):
+        for j, a, hard_pre, hard_neg, groups in unguarded:
+            if s & hard_pre != hard_pre or s & hard_neg:
+                continue  # a condition every model has fails
             d1 = _applicable(a, s, d)
             if d1 is None:
                 continue
-            for d2 in _branches(d1, _effect_updates(a, s, d1, relevant) | _cost_updates(a, d1)):
+            free = _effect_updates(groups, s, d1) | _cost_updates(a, d1)
+            for d2 in _branches(d1, free):
                 g2 = g + _cost(a, d2)
                 if g2 > bound:
                     continue
