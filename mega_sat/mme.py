@@ -259,11 +259,15 @@ def cheaper_superset(
     """A superset ``E'`` of ``selection`` and a plan of ``human + E'`` cheaper there than
     ``plan`` (which runs in every superset), or ``None`` when there is none.
 
-    Uniform-cost search over (relevant state, partial selection): updates outside
-    ``selection`` start free and are decided only where a step, the initial state, the goal
-    or ``plan``'s own cost depends on them; a node is pruned once its cost reaches ``plan``'s
-    cost under the node's decisions.  Zero-cost actions are fine (no horizon).  ``E'`` sets
-    every update left free to "explained"."""
+    A* over (relevant state, partial selection): updates outside ``selection`` start free
+    and are decided only where a step, the initial state, the goal or ``plan``'s own cost
+    depends on them; a node is pruned once its cost plus ``h`` reaches ``plan``'s cost under
+    the node's decisions.  ``h`` is h^max of the abstraction of every superset of
+    ``selection``, so admissible for every completion of a node's decisions.  Zero-cost
+    actions are fine (no horizon).  ``E'`` sets every update left free to "explained"."""
+    from mega_sat.abstraction import abstract_task
+    from mega_sat.search import RelaxedTask
+
     acts = family.actions
     relevant = 0
     for a in acts:
@@ -283,12 +287,26 @@ def cheaper_superset(
         )
         for j, a in enumerate(acts)
     ]
+    n = len(family.atoms)
+    relaxed = RelaxedTask(abstract_task(family, selection, selection))
+    # an untracked atom may be true or false: both of its facts (only lowers h^max)
+    untracked = [p for p in range(n) if not relevant >> p & 1]
+    untracked += [n + p for p in untracked]
+    tracked = [p for p in range(n) if relevant >> p & 1]
+    h_cache: dict[int, float] = {}
+
+    def h(s: int) -> float:
+        if (v := h_cache.get(s)) is None:
+            facts = untracked + [p if s >> p & 1 else n + p for p in tracked]
+            v = h_cache[s] = relaxed.h_max(facts)
+        return v
+
     plan_acts = [acts[family.action_index[tuple(s)]] for s in plan]
     pi_costs = {i for a in plan_acts for guards, _ in a.cost for i, _ in guards}
     full = (1 << family.n_updates) - 1
     start = _Decisions(sum(1 << i for i in selection), 0)
     tie = itertools.count()
-    heap: list[tuple[int, int, int, _Decisions, int]] = []
+    heap: list[tuple[float, int, int, int, _Decisions, int]] = []
     best: dict[tuple[int, _Decisions], int] = {}
     parent: dict[tuple[int, _Decisions], tuple[tuple[int, _Decisions], int] | None] = {}
     for d0 in _branches(start, pi_costs):
@@ -296,13 +314,13 @@ def cheaper_superset(
         if bound < 0:
             continue  # nothing is cheaper than a plan of cost 0
         for s, d in _initial(family, d0, relevant):
-            if (s, d) not in best:
+            if (s, d) not in best and h(s) <= bound:
                 best[(s, d)] = 0
                 parent[(s, d)] = None
-                heapq.heappush(heap, (0, next(tie), s, d, bound))
+                heapq.heappush(heap, (h(s), next(tie), 0, s, d, bound))
     expanded = 0
     while heap:
-        g, _, s, d, bound = heapq.heappop(heap)
+        _, _, g, s, d, bound = heapq.heappop(heap)
         if best[(s, d)] < g:
             continue
         if (done := _goal_reached(family, s, d)) is not None:
@@ -328,13 +346,16 @@ def cheaper_superset(
                 g2 = g + _cost(a, d2)
                 if g2 > bound:
                     continue
-                key2 = (_successor(a, s, d2, relevant), d2)
-                old = best.get(key2)
+                s2 = _successor(a, s, d2, relevant)
+                old = best.get((s2, d2))
                 if old is not None and old <= g2:
                     continue
-                best[key2] = g2
-                parent[key2] = ((s, d), j)
-                heapq.heappush(heap, (g2, next(tie), key2[0], d2, bound))
+                f2 = g2 + h(s2)
+                if f2 > bound:
+                    continue
+                best[(s2, d2)] = g2
+                parent[(s2, d2)] = ((s, d), j)
+                heapq.heappush(heap, (f2, next(tie), g2, s2, d2, bound))
     if counter is not None:
         counter["expanded"] = counter.get("expanded", 0) + expanded
     return None
