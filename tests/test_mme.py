@@ -120,8 +120,8 @@ def _robot_plan(fam):
 
 
 @SETTINGS
-@given(TASKS, st.sampled_from(["rc2", "ilp"]))
-def test_mme_equals_brute_force(task, hs):
+@given(TASKS, st.sampled_from(["rc2", "ilp"]), st.sampled_from(["builtin", "sat"]))
+def test_mme_equals_brute_force(task, hs, planner):
     fam = ground(task)
     try:
         plan = _robot_plan(fam)
@@ -129,7 +129,7 @@ def test_mme_equals_brute_force(task, hs):
         return
     if plan is None:
         return
-    ex = minimally_monotonic_explanation(task, fam, plan, hitting_set=hs)
+    ex = minimally_monotonic_explanation(task, fam, plan, hitting_set=hs, planner=planner)
     assert ex.kind == "mme" and ex.exact
     assert len(ex.explanation) == brute_force_mme(task, fam, plan, state_limit=20_000)
     assert _optimal_in_every_superset(task, fam, ex.selection, plan)
