@@ -155,6 +155,7 @@ def _cost_updates(action, d: _Decisions) -> set[int]:
 
 
 def _cost(action, d: _Decisions) -> int:
+    """``action``'s cost under ``d`` (its cost guards decided where the cases differ)."""
     values = {v for _, v in action.cost}
     if len(values) == 1:
         return next(iter(values))
@@ -185,6 +186,8 @@ def _applicable(action, s: int, d: _Decisions) -> _Decisions | None:
 
 
 def _goal_reached(family: GroundFamily, s: int, d: _Decisions) -> _Decisions | None:
+    """Decisions under which ``s`` satisfies the goal (every goal entry whose atom is false
+    absent), or ``None``."""
     for p, g in family.goal:
         if not s >> p & 1:
             d = d.make(g, False)

@@ -276,6 +276,40 @@ def test_shipped_base_problems_equal_brute_force(rel):
     assert len(mce.explanation) <= want
 
 
+def _enumerated_mme(task, fam, plan) -> int:
+    """The MME size by optimal A* (``solve_optimal``) on every subset of Delta, for tasks
+    whose full state spaces are beyond ``brute_force_mme``."""
+    from mega_sat.search import solve_optimal
+
+    n = len(task.delta)
+    good = []
+    for mask in range(1 << n):
+        t = fam.specialize(i for i in range(n) if mask >> i & 1)
+        sim = simulate_ground(t, plan)
+        good.append(sim.valid and sim.cost == solve_optimal(t).cost)
+    mono = [False] * (1 << n)
+    for mask in reversed(range(1 << n)):
+        mono[mask] = good[mask] and all(mono[mask | 1 << i] for i in range(n) if not mask >> i & 1)
+    return min(bin(m).count("1") for m in range(1 << n) if mono[m])
+
+
+@pytest.mark.parametrize(
+    ("rel", "mce_size", "mme_size"),
+    [
+        ("blocksworld/delta/7/p1", 2, 2),
+        ("blocksworld/delta/7/p2", 3, 3),
+        ("barman-bar/delta/7/p1", 1, 1),
+        ("barman-bar/delta/7/p2", 1, 2),  # a trap among the generated instances
+    ],
+)
+def test_generated_delta_7_instances_equal_enumeration(rel, mce_size, mme_size):
+    task = load_task_dir(str(ROOT / "domains" / rel))
+    s = MegaSolver(task, planner="builtin")
+    ex = s.explain(kind="mme")
+    assert len(s.explain(ex.plan).explanation) == mce_size
+    assert len(ex.explanation) == mme_size == _enumerated_mme(task, s.family, ex.plan)
+
+
 # ------------------------------------------------------------------ CLI
 
 
