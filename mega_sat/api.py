@@ -34,9 +34,11 @@ from mega_sat.update_costs import UpdateCosts, cost_vector, load_update_costs
 from mega_sat.verify import VerifyReport, verify_pair
 
 ENGINES = ("sat", "astar")
+EXPLANATION_KINDS = ("mce", "mme")
 
 __all__ = [
     "ENGINES",
+    "EXPLANATION_KINDS",
     "MegaSolver",
     "default_joint",
     "default_planner",
@@ -256,12 +258,20 @@ class MegaSolver:
             update_costs=self.update_costs,
         )
 
-    def explain(self, plan: Sequence[PlanStep] | None = None) -> Explanation:
-        """MCE of ``plan`` (default: a robot-optimal plan; with update costs the cheapest)."""
+    def explain(self, plan: Sequence[PlanStep] | None = None, kind: str = "mce") -> Explanation:
+        """MCE (``kind="mce"``) or MME (``kind="mme"``) of ``plan`` (default: a robot-optimal
+        plan; with update costs the cheapest).  An MME exists only for a plan optimal in the robot model; another plan is
+        refused with a :class:`~mega_sat.errors.UsageError` naming its cost and the optimum."""
+        if kind not in EXPLANATION_KINDS:
+            raise UsageError(
+                f"unknown explanation kind {kind!r} (choose from {', '.join(EXPLANATION_KINDS)})"
+            )
         from mega_sat.mce import minimal_explanation
+        from mega_sat.mme import minimally_monotonic_explanation
 
         planner = self.planner
-        return minimal_explanation(
+        compute = minimal_explanation if kind == "mce" else minimally_monotonic_explanation
+        return compute(
             self.task,
             self.family,
             None if plan is None else as_plan(plan),
@@ -282,8 +292,10 @@ class MegaSolver:
         producer: str | None = None,
         use_val: bool = True,
     ) -> VerifyReport:
-        """Check a pair: a frontier point / MCE, or explanation names plus a plan (with update
-        costs the report states cost(E), and checks a point's reported cost)."""
+        """Check a pair: a frontier point / MCE / MME, or explanation names plus a plan (with update costs
+        the report states cost(E), and checks a point's reported cost).  An
+        MME's check also covers every strict superset of ``E`` (when there are at most
+        :data:`~mega_sat.verify.SUPERSET_CHECK_LIMIT`; otherwise it is listed as skipped)."""
         if point is not None:
             if not isinstance(point, FrontierPoint | Explanation):
                 raise UsageError(
@@ -303,7 +315,7 @@ class MegaSolver:
         from mega_sat.verify import checker_for
 
         reuse = self.oracles if checker_for(prod) == "sat" else None
-        return verify_pair(
+        report = verify_pair(
             self.task,
             self.family,
             sel,
@@ -317,6 +329,24 @@ class MegaSolver:
             update_costs=self.update_costs,
             explanation_cost=reported,
         )
+        if isinstance(point, Explanation) and point.kind == "mme":
+            from dataclasses import replace
+
+            from mega_sat.verify import verify_supersets
+
+            extra = verify_supersets(
+                self.task,
+                self.family,
+                sel,
+                plan,
+                checker=checker_for(prod),
+                oracles=reuse,
+                deadline=self.deadline,
+            )
+            if isinstance(extra, str):
+                return replace(report, skipped=(*report.skipped, extra))
+            return replace(report, checks=(*report.checks, extra))
+        return report
 
 
 def frontier(task: TwoModelTask, *, engine: str = "sat", **kw) -> Frontier:
@@ -329,9 +359,12 @@ def solve(task: TwoModelTask, alpha: float, *, engine: str = "sat", **kw) -> Sol
     return MegaSolver(task, engine=engine, **kw).solve(alpha)
 
 
-def explain(task: TwoModelTask, plan: Sequence[PlanStep] | None = None, **kw) -> Explanation:
-    """The MCE of ``plan`` (default: a robot-optimal plan)."""
-    return MegaSolver(task, **kw).explain(plan)
+def explain(
+    task: TwoModelTask, plan: Sequence[PlanStep] | None = None, *, kind: str = "mce", **kw
+) -> Explanation:
+    """The MCE (or, with ``kind="mme"``, the MME) of ``plan`` (default: a robot-optimal
+    plan)."""
+    return MegaSolver(task, **kw).explain(plan, kind=kind)
 
 
 def verify(

@@ -202,3 +202,32 @@ def brute_force_mce(
         if update_costs is None and best is not None:
             return best
     return best
+
+
+def brute_force_mme(
+    task: TwoModelTask,
+    family: GroundFamily,
+    plan: Sequence[PlanStep],
+    *,
+    state_limit: int = 200_000,
+    update_costs: Sequence[int] | None = None,
+) -> int | None:
+    """Size (with ``update_costs``: the smallest sum of costs) of the cheapest ``E`` such that
+    ``plan`` is optimal in ``human + E'`` for every ``E <= E' <= Delta`` (None: none, i.e.
+    ``plan`` is not optimal in the robot model)."""
+    from mega_sat.simulate import simulate_ground
+
+    n = len(task.delta)
+    optimal = []
+    for mask in range(1 << n):
+        t = family.specialize(i for i in range(n) if mask >> i & 1)
+        sim = simulate_ground(t, plan)
+        optimal.append(sim.valid and sim.cost == _Space(t, state_limit).opt)
+    monotonic = [False] * (1 << n)
+    for mask in reversed(range(1 << n)):  # every superset comes first
+        monotonic[mask] = optimal[mask] and all(
+            monotonic[mask | 1 << i] for i in range(n) if not mask >> i & 1
+        )
+    costs = update_costs if update_costs is not None else (1,) * n
+    sizes = [sum(costs[i] for i in range(n) if m >> i & 1) for m in range(1 << n) if monotonic[m]]
+    return min(sizes, default=None)

@@ -1046,12 +1046,20 @@ def frontier(run, as_json, do_verify, write_model, force, verbose, plot=None, **
 @click.option("--planner", type=PLANNER, default="builtin", show_default=True)
 @click.option("--hitting-set", type=HITTING, default="rc2", show_default=True)
 @update_costs_option
+@click.option(
+    "--mme",
+    is_flag=True,
+    help="MME instead of MCE (the plan must be robot-optimal).",
+)
 @click.option("--json", "as_json", is_flag=True)
 @click.option("--verify", "do_verify", is_flag=True)
 @quiet_option
 @_command
-def explain(run, plan_file, planner, hitting_set, update_costs, as_json, do_verify, verbose, **kw):
-    """MCE: the smallest explanation that makes a plan optimal for the human."""
+def explain(
+    run, plan_file, planner, hitting_set, update_costs, mme, as_json, do_verify, verbose, **kw
+):
+    """MCE: the smallest explanation that makes a plan optimal for the human (--mme: MME,
+    the smallest that keeps it optimal whatever else the human is told)."""
     from mega_sat.api import MegaSolver
     from mega_sat.family import step_str
     from mega_sat.planio import read_plan
@@ -1068,7 +1076,7 @@ def explain(run, plan_file, planner, hitting_set, update_costs, as_json, do_veri
     )
     run.watch(s.progress)
     _verbose_family(s, verbose)
-    ex = s.explain(steps)
+    ex = s.explain(steps, kind="mme" if mme else "mce")
     rep, notes = None, []
     if do_verify:
         try:
@@ -1095,7 +1103,8 @@ def explain(run, plan_file, planner, hitting_set, update_costs, as_json, do_veri
             run.echo("Explanation >> (none needed)")
         cost = "" if ex.weighted_cost is None else f"cost(E) = {ex.weighted_cost}, "
         run.echo(
-            f"{cost}|E| = {len(ex.explanation)}; time {ex.time_s:.3f}s; "
+            f"{cost}|E| = {len(ex.explanation)}{' (MME)' if mme else ''}; "
+            f"time {ex.time_s:.3f}s; "
             + ("exact: yes" if ex.exact else "exact: no (" + "; ".join(ex.notes) + ")")
         )
         _incomplete_lines(run, notes)

@@ -144,8 +144,10 @@ class Solution:
 
 @dataclass(frozen=True)
 class Explanation:
-    """An MCE: the smallest ``E`` that makes one given plan optimal in ``human + E`` (with
-    update costs: the cheapest, ``weighted_cost`` its sum of costs)."""
+    """An MCE (``kind`` ``mce``): the smallest ``E`` that makes one given plan optimal in
+    ``human + E``; or an MME (``kind`` ``mme``): the smallest ``E`` that keeps it optimal in
+    ``human + E'`` for every ``E <= E' <= Delta``.  With
+    update costs: the cheapest, ``weighted_cost`` its sum of costs."""
 
     plan: tuple[PlanStep, ...]
     explanation: tuple[str, ...]
@@ -157,6 +159,7 @@ class Explanation:
     time_s: float = 0.0
     stats: dict[str, Any] = field(default_factory=dict, compare=False)
     weighted_cost: int | None = None
+    kind: str = "mce"
 
     @property
     def explanation_cost(self) -> int:
@@ -164,7 +167,9 @@ class Explanation:
         return len(self.explanation) if self.weighted_cost is None else self.weighted_cost
 
     def to_dict(self) -> dict[str, Any]:
-        d: dict[str, Any] = {
+        # "kind" is written for MME only: MCE's JSON keeps the keys it always had
+        d: dict[str, Any] = {} if self.kind == "mce" else {"kind": self.kind}
+        d |= {
             "plan": [step_str(s) for s in self.plan],
             "explanation": list(self.explanation),
         }

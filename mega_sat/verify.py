@@ -28,11 +28,13 @@ class Check:
 @dataclass(frozen=True)
 class VerifyReport:
     """All checks of one pair; ``ok`` only if every check passed.  ``explanation_cost``: the
-    explanation's cost(E) under the update costs, when they are in use (``size``: its |E|)."""
+    explanation's cost(E) under the update costs, when they are in use (``size``: its |E|).
+    ``skipped`` names checks that were not run (and why): neither a pass nor a failure."""
 
     checks: tuple[Check, ...]
     explanation_cost: int | None = None
     size: int | None = None
+    skipped: tuple[str, ...] = ()
 
     @property
     def ok(self) -> bool:
@@ -45,7 +47,7 @@ class VerifyReport:
                 f"explanation cost under the update costs: cost(E) = {self.explanation_cost}, "
                 f"|E| = {self.size}"
             )
-        return out
+        return out + [f"skip {s}" for s in self.skipped]
 
     def to_dict(self) -> dict:
         d: dict = {
@@ -55,7 +57,55 @@ class VerifyReport:
         if self.explanation_cost is not None:
             d["explanation_cost"] = self.explanation_cost
             d["size"] = self.size
+        if self.skipped:
+            d["skipped"] = list(self.skipped)
         return d
+
+
+SUPERSET_CHECK_LIMIT = 64
+"""At most this many strict supersets of an MME are re-checked, one optimal planner call each."""
+
+SUPERSETS = "optimal in every human + E' with E < E' <= Delta"
+
+
+def verify_supersets(
+    task: TwoModelTask,
+    family: GroundFamily,
+    selection: frozenset[int],
+    plan: Sequence[PlanStep],
+    *,
+    checker: str,
+    oracles=None,
+    deadline: Deadline | None = None,
+    limit: int = SUPERSET_CHECK_LIMIT,
+) -> Check | str:
+    """The check that makes an MME monotonic: ``plan`` runs in ``human + E'`` (lifted
+    simulation) at the optimum of ``human + E'`` (by ``checker``) for every strict superset
+    ``E'`` of ``selection``; with more than ``limit`` supersets, the reason it is skipped."""
+    from mega_sat.node_planner import NodePlanner
+
+    rest = sorted(set(range(len(task.delta))) - set(selection))
+    count = (1 << len(rest)) - 1
+    if count > limit:
+        return f"{SUPERSETS}: {count} supersets, more than {limit}"
+    planner = NodePlanner(task, family, checker, oracles=oracles, deadline=deadline)
+    plan = tuple(tuple(s) for s in plan)
+    for mask in range(1, count + 1):
+        added = frozenset(rest[k] for k in range(len(rest)) if mask >> k & 1)
+        bigger = frozenset(selection) | added
+        where = "with " + ", ".join(task.names(sorted(added))) + " also explained"
+        sim = simulate(task.updated_model(bigger), plan)
+        if not sim.valid:
+            return Check(SUPERSETS, False, f"{where}: {sim.reason}")
+        opt = planner.optimal(bigger)
+        if opt.status != "optimal" or not opt.exact:
+            return Check(SUPERSETS, False, f"{where}: no proven optimum by {checker}")
+        if opt.cost != sim.cost:
+            return Check(SUPERSETS, False, f"{where}: optimum {opt.cost}; plan: {sim.cost}")
+    if count == 0:
+        return Check(SUPERSETS, True, "E is all of Delta: no strict superset")
+    many = f"{count} supersets" if count > 1 else "1 superset"
+    return Check(SUPERSETS, True, f"{many}, optima by {checker}")
 
 
 def checker_for(producer: str) -> str:

@@ -57,3 +57,26 @@ def usar_like() -> TwoModelTask:
         uses_costs=True,
     )
     return TwoModelTask.from_models(robot, human)
+
+
+def hidden_trap() -> TwoModelTask:
+    """A task whose robot-optimal plan has an empty MCE but an MME of one update.
+
+    Both know s->x->y->g (cost 3, the robot's optimal plan).  The robot also has s->a, which
+    the human does not know, and knows that a->g is closed, which the human believes open.
+    Told only about s->a, the human would expect s->a->g (cost 2): the MME must also close
+    a->g, the MCE need not.
+    """
+    robot = _nav_model({("s", "x"), ("x", "y"), ("y", "g"), ("s", "a")}, set())
+    human_init = (set(robot.init) - {("clear_path", "s", "a")}) | {("clear_path", "a", "g")}
+    human = Model(
+        robot.domain_name,
+        robot.problem_name,
+        robot.predicates,
+        robot.schemas,
+        robot.objects,
+        frozenset(human_init),
+        robot.goal,
+        uses_costs=True,
+    )
+    return TwoModelTask.from_models(robot, human)
