@@ -1338,6 +1338,72 @@ def batch(run, dirs, out, jobs, scheduler, task_timeout, as_json, force, **kw):
     return EXIT_TOOL if summary.failed else EXIT_OK
 
 
+@main.command(
+    epilog="Usage >> mega-sat mmp -s EE -a 0.1 -m robot-domain.pddl -n human-domain.pddl "
+    "-p robot-problem.pddl -q human-problem.pddl"
+)
+@click.option(
+    "-s",
+    "--search",
+    type=click.Choice(["EE", "ME", "MCE"], case_sensitive=False),
+    required=True,
+    help="EE: MEGA at --alpha; ME: the MCE of the plan; MCE: the original's monotonic "
+    "search (the MME of the plan).",
+)
+@click.option("-m", "--model", type=click.Path(), required=True, help="Robot domain.")
+@click.option("-n", "--nmodel", type=click.Path(), required=True, help="Human domain.")
+@click.option("-p", "--problem", type=click.Path(), required=True, help="Robot problem.")
+@click.option("-q", "--hproblem", type=click.Path(), default=None, help="Human problem.")
+@click.option(
+    "-f", "--plan_file", "plan_file", type=click.Path(), default=None, help="ME/MCE: plan."
+)
+@click.option("-a", "--alpha", default=None, help="EE: the weight of extra robot cost.")
+@click.option("-t", "--tmodel", type=click.Path(), default=None, help="Accepted; not needed.")
+@click.option("-r", "--tproblem", type=click.Path(), default=None, help="Accepted; not needed.")
+@click.option("--approx", is_flag=True, help="Accepted; no effect (answers are exact).")
+@click.option("--heuristic", is_flag=True, help="Accepted; no effect.")
+@click.option("--ground", is_flag=True, help="Accepted; no effect (updates are lifted).")
+@click.option(
+    "--timeout",
+    default=None,
+    metavar="SECONDS",
+    help="Time limit for the whole run (inf: none).",
+)
+@click.option("--force", is_flag=True, help="Replace exp.dat / final_plan.sol of another tool.")
+@_command
+def mmp(run, search, model, nmodel, problem, hproblem, plan_file, alpha, force, **flags):
+    """Drop-in for the original MEGA code's Explainer.py command line."""
+    from mega_sat.api import MegaSolver, _check_alpha
+    from mega_sat.mmp import IGNORED_FLAGS, answer, check_outputs, write_outputs
+    from mega_sat.planio import read_plan
+
+    for name, note in IGNORED_FLAGS.items():
+        if flags.get(name):
+            click.echo(f"mega-sat mmp: {note}", err=True)
+    search = search.upper()
+    if search == "EE" and plan_file:
+        click.echo(
+            "mega-sat mmp: -f/--plan_file is not used by -s EE (MEGA picks the plan)", err=True
+        )
+    if search != "EE" and alpha is not None:
+        click.echo(f"mega-sat mmp: -a/--alpha is not used by -s {search}", err=True)
+    a = _check_alpha(alpha) if alpha is not None and search == "EE" else None
+    paths = check_outputs(Path.cwd(), force)
+    task = _load(None, model, problem, nmodel, hproblem)
+    steps = read_plan(plan_file) if plan_file and search != "EE" else None
+    t0 = time.perf_counter()
+    ans = answer(MegaSolver(task, deadline=run.deadline), search, a, steps)
+    write_outputs(ans, paths)
+    for line in ans.explanation_lines():
+        run.echo(line)
+    click.echo(
+        f"mega-sat mmp: {ans.summary}; {time.perf_counter() - t0:.3f}s; "
+        f"wrote {paths[0].name} and {paths[1].name}",
+        err=True,
+    )
+    return EXIT_OK
+
+
 def _register_bench() -> None:
     from mega_sat.benchmark import bench_command
 
