@@ -21,6 +21,7 @@ import re
 import shlex
 import subprocess
 import sys
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -91,6 +92,29 @@ def sync(path: Path, check: bool, slow: bool = False) -> list[str]:
     return stale
 
 
+_SHARED = re.compile(r"/tmp/[\w.-]+|\bexp\.dat\b|\bfinal_plan\.sol\b")
+
+
+def _lanes(targets: list[Path], n: int) -> list[list[Path]]:
+    """The files in ``n`` lanes run side by side: files whose commands name a common output
+    (a /tmp path, the working directory's exp.dat) share a lane, in the order given, so no
+    two commands write one file at once; lanes are balanced by their number of blocks."""
+    cmds = {f: [m.group("cmd") for m in BLOCK.finditer(f.read_text())] for f in targets}
+    groups: list[tuple[set[str], list[Path]]] = []
+    for f in targets:
+        outs = {o for c in cmds[f] for o in _SHARED.findall(c)}
+        joined = [g for g in groups if g[0] & outs]
+        merged = (outs.union(*(g[0] for g in joined)), [p for g in joined for p in g[1]] + [f])
+        groups = [g for g in groups if g not in joined] + [merged]
+    lanes: list[list[Path]] = [[] for _ in range(n)]
+    load = [0] * n
+    for _, fs in sorted(groups, key=lambda g: -sum(len(cmds[f]) for f in g[1])):
+        k = load.index(min(load))
+        lanes[k] += sorted(fs, key=targets.index)
+        load[k] += sum(len(cmds[f]) for f in fs)
+    return [lane for lane in lanes if lane]
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--check", action="store_true", help="Fail on stale blocks; write nothing.")
@@ -102,10 +126,17 @@ def main() -> int:
     ap.add_argument("files", nargs="*", help="Markdown files (default: README, docs, domains).")
     args = ap.parse_args()
     targets = [Path(f).resolve() for f in args.files] or files(DEFAULT_FILES)
+    with ThreadPoolExecutor(max_workers=2) as ex:  # the commands are processes: 2 cores
+        lanes = list(
+            ex.map(
+                lambda lane: [(f, sync(f, args.check, args.slow)) for f in lane],
+                _lanes(targets, 2),
+            )
+        )
+    done = dict(pair for lane in lanes for pair in lane)
     bad = 0
     for f in targets:
-        stale = sync(f, args.check, args.slow)
-        for cmd in stale:
+        for cmd in done[f]:
             bad += 1
             print(f"{f.relative_to(ROOT)}: {'stale' if args.check else 'updated'}: {cmd}")
     return 1 if (args.check and bad) else 0
