@@ -219,12 +219,7 @@ def failing_superset(
     on the free updates that change a relevant atom; a condition whose update is still free
     and would fail if present is a failure."""
     acts = [family.actions[family.action_index[tuple(s)]] for s in plan]
-    relevant = 0
-    for a in acts:
-        for p, _ in a.pre + a.negpre:
-            relevant |= 1 << p
-    for p, _ in family.goal:
-        relevant |= 1 << p
+    relevant = _condition_atoms(family, acts)
     groups = {a.step: _effect_groups(a, relevant) for a in acts}
     start = _Decisions(sum(1 << i for i in selection), 0)
     layer = set(_initial(family, start, relevant))
@@ -254,6 +249,18 @@ def failing_superset(
     return None
 
 
+def _condition_atoms(family: GroundFamily, acts: Sequence) -> int:
+    """The atoms some condition of ``acts`` or the goal reads, as a bit mask: the only atoms
+    whose values the superset searches track."""
+    relevant = 0
+    for a in acts:
+        for p, _ in a.pre + a.negpre:
+            relevant |= 1 << p
+    for p, _ in family.goal:
+        relevant |= 1 << p
+    return relevant
+
+
 def cheaper_superset(
     family: GroundFamily,
     plan: Sequence[PlanStep],
@@ -274,12 +281,7 @@ def cheaper_superset(
     from mega_sat.search import RelaxedTask
 
     acts = family.actions
-    relevant = 0
-    for a in acts:
-        for p, _ in a.pre + a.negpre:
-            relevant |= 1 << p
-    for p, _ in family.goal:
-        relevant |= 1 << p
+    relevant = _condition_atoms(family, acts)
     # the conditions without a guard as masks (most actions fail one at most nodes), and the
     # effects that can depend on the selection
     unguarded = [

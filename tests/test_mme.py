@@ -36,7 +36,7 @@ TRAP = ROOT / "docs" / "examples" / "usar-trap"
 EXPLICABLE = ROOT / "docs" / "examples" / "usar-p1-explicable.plan"
 
 SETTINGS = settings(
-    max_examples=120,
+    max_examples=80,
     deadline=None,
     derandomize=True,
     suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much],
@@ -119,16 +119,24 @@ def _robot_plan(fam):
     return solve_optimal(fam.specialize(fam.robot_selection)).plan
 
 
-@SETTINGS
-@given(TASKS, st.sampled_from(["rc2", "ilp"]), st.sampled_from(["builtin", "sat"]))
-def test_mme_equals_brute_force(task, hs, planner):
+def _family_and_plan(task):
+    """The ground family and a robot-optimal plan, or None where the oracle cannot follow
+    (no robot plan, or a state space too large for it)."""
     fam = ground(task)
     try:
         plan = _robot_plan(fam)
     except RuntimeError:  # state space too large for the oracle
+        return None
+    return None if plan is None else (fam, plan)
+
+
+@SETTINGS
+@given(TASKS, st.sampled_from(["rc2", "ilp"]), st.sampled_from(["builtin", "sat"]))
+def test_mme_equals_brute_force(task, hs, planner):
+    got = _family_and_plan(task)
+    if got is None:
         return
-    if plan is None:
-        return
+    fam, plan = got
     ex = minimally_monotonic_explanation(task, fam, plan, hitting_set=hs, planner=planner)
     assert ex.kind == "mme" and ex.exact
     assert len(ex.explanation) == brute_force_mme(task, fam, plan, state_limit=20_000)
@@ -143,13 +151,10 @@ def test_mme_equals_brute_force(task, hs, planner):
 def test_cheapest_mme_under_update_costs_equals_brute_force(task, data):
     """With update costs the loop returns the cheapest monotonic E (its clauses do not depend
     on the costs; only the hitting set minimises their sum)."""
-    fam = ground(task)
-    try:
-        plan = _robot_plan(fam)
-    except RuntimeError:
+    got = _family_and_plan(task)
+    if got is None:
         return
-    if plan is None:
-        return
+    fam, plan = got
     n = len(task.delta)
     costs = tuple(data.draw(st.lists(st.integers(1, 5), min_size=n, max_size=n)))
     hs = data.draw(st.sampled_from(["rc2", "ilp"]))
@@ -164,13 +169,10 @@ def test_cheapest_mme_under_update_costs_equals_brute_force(task, data):
 def test_superset_searches_equal_enumeration(task, data):
     """``failing_superset`` / ``cheaper_superset`` find a witness exactly when one of the
     supersets of ``E`` has the plan failing / a cheaper plan, and the witness is real."""
-    fam = ground(task)
-    try:
-        plan = _robot_plan(fam)
-    except RuntimeError:
+    got = _family_and_plan(task)
+    if got is None:
         return
-    if plan is None:
-        return
+    fam, plan = got
     n = len(task.delta)
     sel = data.draw(st.frozensets(st.integers(0, n - 1)) if n else st.just(frozenset()))
     rest = [i for i in range(n) if i not in sel]

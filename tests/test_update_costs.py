@@ -45,7 +45,7 @@ P7P5 = "add-has-initial-state-clear_path p7 p5"
 P1P8 = "remove-has-initial-state-clear_path p1 p8"
 
 SETTINGS = settings(
-    max_examples=100,
+    max_examples=40,
     deadline=None,
     derandomize=True,
     suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much],
