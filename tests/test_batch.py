@@ -159,9 +159,17 @@ def _wait_for_lines(out: Path, n: int, proc: subprocess.Popen, limit: float = 12
     raise AssertionError("no lines written in time")
 
 
-def _batch_processes() -> list[str]:
-    r = subprocess.run(["pgrep", "-f", "mega-sat-batch-"], capture_output=True, text=True)
-    return r.stdout.split()
+def _children(pid: int) -> list[int]:
+    r = subprocess.run(["pgrep", "-P", str(pid)], capture_output=True, text=True)
+    return [int(x) for x in r.stdout.split()]
+
+
+def _running(pid: int) -> bool:
+    try:
+        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+    except OSError:
+        return False
+    return state != "Z"
 
 
 def test_sigint_keeps_the_written_lines_and_ends_the_tasks(tmp_path):
@@ -176,6 +184,8 @@ def test_sigint_keeps_the_written_lines_and_ends_the_tasks(tmp_path):
     )
     _wait_for_lines(out, 1, proc)
     time.sleep(1.0)  # the first slow task is running now
+    tasks_running = _children(proc.pid)
+    assert tasks_running
     proc.send_signal(signal.SIGINT)
     stdout, stderr = proc.communicate(timeout=30)
     assert proc.returncode == 130, stderr
@@ -184,7 +194,7 @@ def test_sigint_keeps_the_written_lines_and_ends_the_tasks(tmp_path):
     assert summary["stopped"] == "interrupted by SIGINT"
     assert [x["task"] for x in _lines(out)] == [USAR[0]]
     time.sleep(0.5)
-    assert _batch_processes() == []  # the running task's process was ended
+    assert not any(map(_running, tasks_running))  # the running task's process was ended
 
 
 def test_a_killed_batch_resumes_where_it_stopped(tmp_path):
@@ -219,10 +229,11 @@ def test_batch_time_limit_stops_with_what_is_written(tmp_path):
     assert [x["task"] for x in _lines(out)] == [USAR[0]]
 
 
-def test_bad_options_are_one_line():
-    r = _batch(USAR[0], "--out", "/tmp/x.jsonl", "--task-timeout", "soon")
+def test_bad_options_are_one_line(tmp_path):
+    out = str(tmp_path / "x.jsonl")
+    r = _batch(USAR[0], "--out", out, "--task-timeout", "soon")
     assert r.returncode == 2 and r.stderr.strip().startswith("error: --task-timeout must be")
-    r = _batch(USAR[0], "--out", "/tmp/x.jsonl", "--scheduler", "nowhere")
+    r = _batch(USAR[0], "--out", out, "--scheduler", "nowhere")
     assert r.returncode == 2 and "tcp://HOST:8786" in r.stderr
     assert len(r.stderr.strip().splitlines()) == 1
 
