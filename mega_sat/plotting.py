@@ -66,11 +66,13 @@ def frontier_figure(fr: Frontier, fmt: str, title: str = "") -> bytes:
     from matplotlib.ticker import MaxNLocator
 
     pts = fr.points
-    xs = [p.size for p in pts]
+    weighted = fr.update_costs is not None
+    xs = [p.explanation_cost for p in pts]  # cost(E) with update costs, else |E|
     ys = [p.robot_cost for p in pts]
     fig, ax = plt.subplots(figsize=(7.0, 4.4))
     try:
-        right = max([len(fr.model_difference) if fr.complete else 0, *xs, 1])
+        most = sum(fr.update_costs) if weighted else len(fr.model_difference)
+        right = max([most if fr.complete else 0, *xs, 1])
         if pts:
             # robot cost reachable with at most x updates: flat until the next point
             ax.step([*xs, right], [*ys, ys[-1]], where="post", color="C0", label="frontier")
@@ -84,8 +86,9 @@ def frontier_figure(fr: Frontier, fmt: str, title: str = "") -> bytes:
         )
         for k, (p, r) in enumerate(zip(pts, alpha_ranges(fr), strict=True)):
             ax.annotate(
-                f"[{k}] |E| = {p.size}, cost {p.robot_cost}\n{range_label(r)}",
-                (p.size, p.robot_cost),
+                f"[{k}] {'cost(E)' if weighted else '|E|'} = {p.explanation_cost}, "
+                f"cost {p.robot_cost}\n{range_label(r)}",
+                (p.explanation_cost, p.robot_cost),
                 textcoords="offset points",
                 xytext=(7, 7),
                 fontsize=8.5,
@@ -97,7 +100,7 @@ def frontier_figure(fr: Frontier, fmt: str, title: str = "") -> bytes:
         ax.set_ylim(fr.robot_optimal_cost - 0.12 * span, top + 0.3 * span)
         ax.xaxis.set_major_locator(MaxNLocator(integer=True))
         ax.yaxis.set_major_locator(MaxNLocator(integer=True))
-        ax.set_xlabel("explanation size |E|")
+        ax.set_xlabel("explanation cost cost(E)" if weighted else "explanation size |E|")
         ax.set_ylabel("robot plan cost")
         # a point missed by an early stop can take over part of any range
         status = "" if fr.complete else "\n(incomplete: α ranges among the points found so far)"

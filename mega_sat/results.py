@@ -246,10 +246,11 @@ def alpha_ranges(frontier: Frontier) -> list[tuple[Fraction, Fraction | None] | 
     """For each point, the alphas for which :func:`choose` picks it: ``(lo, hi)`` meaning
     ``lo <= alpha < hi`` (``hi`` None: no upper end), or None when no alpha picks it.
 
-    Point ``i`` beats a point ``j`` with more updates and a lower robot cost while
-    ``alpha < (|E_j| - |E_i|) / (cost_i - cost_j)``; at equality ``j`` wins (lower robot cost
-    first).  It beats a point with fewer updates from ``(|E_i| - |E_j|) / (cost_j - cost_i)``
-    on (at equality ``i`` wins, for the same reason).
+    Point ``i`` beats a point ``j`` with a dearer explanation and a lower robot cost while
+    ``alpha < (x_j - x_i) / (cost_i - cost_j)``, with ``x`` the explanation cost (cost(E), or
+    |E| without update costs); at equality ``j`` wins (lower robot cost first).  It beats a
+    point with a cheaper explanation from ``(x_i - x_j) / (cost_j - cost_i)`` on (at equality
+    ``i`` wins, for the same reason).
     """
     pts = frontier.points
     out: list[tuple[Fraction, Fraction | None] | None] = []
@@ -259,7 +260,7 @@ def alpha_ranges(frontier: Frontier) -> list[tuple[Fraction, Fraction | None] | 
         for j, q in enumerate(pts):
             if j == i or q.robot_cost == p.robot_cost:
                 continue
-            cut = Fraction(q.size - p.size, p.robot_cost - q.robot_cost)
+            cut = Fraction(q.explanation_cost - p.explanation_cost, p.robot_cost - q.robot_cost)
             if q.robot_cost < p.robot_cost:  # j is cheaper for the robot: i wins below cut
                 hi = cut if hi is None else min(hi, cut)
             else:  # j explains less: i wins from cut on

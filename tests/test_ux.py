@@ -187,13 +187,18 @@ def test_sweep_figure_tick_labels_do_not_overlap(tmp_path, monkeypatch):
 
 
 def _frontier(pairs, c_robot):
+    """Points ``(|E|, robot cost)``, or ``(|E|, robot cost, cost(E))`` with update costs."""
     from mega_sat.results import Frontier, FrontierPoint
 
     pts = tuple(
-        FrontierPoint(tuple(f"u{k}" for k in range(e)), frozenset(range(e)), (), c, c)
-        for e, c in pairs
+        FrontierPoint(
+            tuple(f"u{k}" for k in range(e)), frozenset(range(e)), (), c, c, *(w or (None,))
+        )
+        for e, c, *w in pairs
     )
-    return Frontier("sat", c_robot, tuple(f"u{k}" for k in range(9)), pts, True, True)
+    costs = (1,) * 9 if all(len(p) == 2 for p in pairs) else None
+    weighted = {} if costs else {"update_costs": (3,) * 9}
+    return Frontier("sat", c_robot, tuple(f"u{k}" for k in range(9)), pts, True, True, **weighted)
 
 
 @pytest.mark.parametrize(
@@ -206,6 +211,8 @@ def _frontier(pairs, c_robot):
         # on that line: a tie at alpha = 1/2 for all three, won by the cheapest
         ([(0, 4), (1, 2), (2, 0)], [(0, "1/2"), None, ("1/2", None)]),
         ([(3, 4)], [(0, None)]),
+        # update costs: the cuts follow cost(E) (1 and 6 here), not |E| (1 and 2)
+        ([(1, 12, 1), (2, 6, 6)], [(0, "5/6"), ("5/6", None)]),
     ],
 )
 def test_alpha_ranges_match_choose(pairs, want):
