@@ -37,15 +37,8 @@ def _nav_model(paths: set[tuple[str, str]], blocked: set[tuple[str, str]]) -> Mo
     )
 
 
-def usar_like() -> TwoModelTask:
-    """A miniature of the paper's USAR map.  Both know a->g and y->g are open and that s->a has
-    rubble.  The human believes s->a is nevertheless open and does not know s->x, x->y.
-    Frontier: (|E| 1, robot cost 7: clear the rubble, s-a-g) and (|E| 3, robot cost 3: s-x-y-g).
-    """
-    robot = _nav_model({("a", "g"), ("y", "g"), ("s", "x"), ("x", "y")}, {("s", "a")})
-    human_init = (set(robot.init) - {("clear_path", "s", "x"), ("clear_path", "x", "y")}) | {
-        ("clear_path", "s", "a")
-    }
+def _with_human_init(robot: Model, human_init: set) -> TwoModelTask:
+    """The task whose human model is ``robot`` with another initial state."""
     human = Model(
         robot.domain_name,
         robot.problem_name,
@@ -57,6 +50,18 @@ def usar_like() -> TwoModelTask:
         uses_costs=True,
     )
     return TwoModelTask.from_models(robot, human)
+
+
+def usar_like() -> TwoModelTask:
+    """A miniature of the paper's USAR map.  Both know a->g and y->g are open and that s->a has
+    rubble.  The human believes s->a is nevertheless open and does not know s->x, x->y.
+    Frontier: (|E| 1, robot cost 7: clear the rubble, s-a-g) and (|E| 3, robot cost 3: s-x-y-g).
+    """
+    robot = _nav_model({("a", "g"), ("y", "g"), ("s", "x"), ("x", "y")}, {("s", "a")})
+    human_init = (set(robot.init) - {("clear_path", "s", "x"), ("clear_path", "x", "y")}) | {
+        ("clear_path", "s", "a")
+    }
+    return _with_human_init(robot, human_init)
 
 
 def hidden_trap() -> TwoModelTask:
@@ -69,14 +74,4 @@ def hidden_trap() -> TwoModelTask:
     """
     robot = _nav_model({("s", "x"), ("x", "y"), ("y", "g"), ("s", "a")}, set())
     human_init = (set(robot.init) - {("clear_path", "s", "a")}) | {("clear_path", "a", "g")}
-    human = Model(
-        robot.domain_name,
-        robot.problem_name,
-        robot.predicates,
-        robot.schemas,
-        robot.objects,
-        frozenset(human_init),
-        robot.goal,
-        uses_costs=True,
-    )
-    return TwoModelTask.from_models(robot, human)
+    return _with_human_init(robot, human_init)
