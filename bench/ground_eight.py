@@ -11,7 +11,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
 from test_signature import _load_dir, _write_eight_parameter_task  # noqa: E402
 
-from mega_sat.grounding import ground  # noqa: E402
+from mega_sat.ground.grounding import ground  # noqa: E402
 
 runs = int(sys.argv[1]) if len(sys.argv) > 1 else 5
 with tempfile.TemporaryDirectory() as tmp:

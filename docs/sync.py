@@ -33,7 +33,7 @@ MASKS = [
     (re.compile(r'"time_s": [0-9.e-]+'), '"time_s": <T>'),
     (re.compile(r'"(\w*time\w*)": [0-9.e-]+'), r'"\1": <T>'),
 ]
-_CLI = "import sys; sys.argv[0] = 'mega-sat'; from mega_sat.cli import main; main()"
+_CLI = "import sys; sys.argv[0] = 'mega-sat'; from mega_sat.cli.commands import main; main()"
 DEFAULT_FILES = ["README.md", "docs/*.md", "domains/*/README.md"]
 
 
@@ -48,7 +48,7 @@ def run_command(cmd: str) -> str:
     interpreter (so the venv need not be on PATH)."""
     argv = shlex.split(cmd)
     if argv[0] == "mega-sat":
-        # not ``-m mega_sat.cli``: click would then print "python -m mega_sat.cli" in usage lines
+        # not ``-m mega_sat.cli.commands``: click would then print "python -m mega_sat.cli.commands" in usage lines
         argv = [sys.executable, "-c", _CLI, *argv[1:]]
     elif argv[0] in ("python", "python3"):
         argv = [sys.executable, *argv[1:]]  # the same interpreter, even if no venv is active

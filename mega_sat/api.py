@@ -21,17 +21,18 @@ from collections.abc import Iterable, Mapping, Sequence
 from functools import cached_property
 
 from mega_sat.deadline import Deadline
+from mega_sat.engines.progress import Progress
+from mega_sat.engines.sat_loop import default_joint, default_planner
+from mega_sat.engines.verify import VerifyReport, verify_pair
 from mega_sat.errors import UsageError
-from mega_sat.family import GroundFamily, PlanStep
-from mega_sat.loading import load_task, load_task_dir, load_task_from_strings
-from mega_sat.planio import as_plan
-from mega_sat.progress import Progress
+from mega_sat.ground.family import GroundFamily
+from mega_sat.model.lifted import PlanStep
+from mega_sat.model.task import TwoModelTask
+from mega_sat.pddl.loading import load_task, load_task_dir, load_task_from_strings
+from mega_sat.pddl.planio import as_plan
+from mega_sat.pddl.up_models import load_task_from_up
+from mega_sat.pddl.update_costs import UpdateCosts, cost_vector, load_update_costs
 from mega_sat.results import Explanation, Frontier, FrontierPoint, Solution, check_alpha, choose
-from mega_sat.sat_engine import default_joint, default_planner
-from mega_sat.task import TwoModelTask
-from mega_sat.up_models import load_task_from_up
-from mega_sat.update_costs import UpdateCosts, cost_vector, load_update_costs
-from mega_sat.verify import VerifyReport, verify_pair
 
 ENGINES = ("sat", "astar")
 EXPLANATION_KINDS = ("mce", "mme")
@@ -92,11 +93,11 @@ class MegaSolver:
     :meth:`partial_frontier` still gives what was proven.
 
     ``update_costs``: a positive integer cost per update, a mapping from update name (as
-    ``mega-sat diff`` prints it) to cost or the :class:`~mega_sat.update_costs.UpdateCosts`
+    ``mega-sat diff`` prints it) to cost or the :class:`~mega_sat.pddl.update_costs.UpdateCosts`
     of :func:`load_update_costs`; updates not given cost 1.  The explanation cost is then the
     sum of the costs instead of |E|, in the frontier, the objective, MCE and verification.  A
     name outside Delta or a cost that is not a positive integer is an
-    :class:`~mega_sat.update_costs.UpdateCostError`.
+    :class:`~mega_sat.pddl.update_costs.UpdateCostError`.
     """
 
     def __init__(
@@ -131,7 +132,7 @@ class MegaSolver:
             deadline = Deadline.after(timeout)
         elif timeout is not None:
             raise UsageError("give either timeout or deadline, not both")
-        from mega_sat.sat_engine import JOINT_METHODS
+        from mega_sat.engines.sat_loop import JOINT_METHODS
 
         if joint is not None and joint not in JOINT_METHODS:
             raise UsageError(
@@ -166,7 +167,7 @@ class MegaSolver:
 
     @cached_property
     def family(self) -> GroundFamily:
-        from mega_sat.grounding import ground
+        from mega_sat.ground.grounding import ground
 
         self.deadline.check()
         fam = ground(self.task, deadline=self.deadline if self.deadline.limited else None)
@@ -175,7 +176,7 @@ class MegaSolver:
 
     @cached_property
     def oracles(self):
-        from mega_sat.oracles import SatOracles
+        from mega_sat.sat.oracles import SatOracles
 
         family = self.family
         orc = SatOracles(family, solver=self.solver)
@@ -192,7 +193,7 @@ class MegaSolver:
         cost(E) is |E| without update costs)."""
         if self._frontier is None:
             if self.engine == "sat":
-                from mega_sat.sat_engine import sat_frontier
+                from mega_sat.engines.sat_loop import sat_frontier
 
                 self._frontier = sat_frontier(
                     self.task,
@@ -206,7 +207,7 @@ class MegaSolver:
                     update_costs=self.update_costs,
                 )
             else:
-                from mega_sat.astar_engine import astar_frontier
+                from mega_sat.engines.astar import astar_frontier
 
                 self._frontier = astar_frontier(
                     self.task,
@@ -245,7 +246,7 @@ class MegaSolver:
         alpha = _check_alpha(alpha)
         if self.engine == "sat":
             return choose(self.frontier(), alpha)
-        from mega_sat.astar_engine import astar_solve
+        from mega_sat.engines.astar import astar_solve
 
         return astar_solve(
             self.task,
@@ -266,8 +267,8 @@ class MegaSolver:
             raise UsageError(
                 f"unknown explanation kind {kind!r} (choose from {', '.join(EXPLANATION_KINDS)})"
             )
-        from mega_sat.mce import minimal_explanation
-        from mega_sat.mme import minimally_monotonic_explanation
+        from mega_sat.engines.mce import minimal_explanation
+        from mega_sat.engines.mme import minimally_monotonic_explanation
 
         planner = self.planner
         compute = minimal_explanation if kind == "mce" else minimally_monotonic_explanation
@@ -295,7 +296,7 @@ class MegaSolver:
         """Check a pair: a frontier point / MCE / MME, or explanation names plus a plan (with update costs
         the report states cost(E), and checks a point's reported cost).  An
         MME's check also covers every strict superset of ``E`` (when there are at most
-        :data:`~mega_sat.verify.SUPERSET_CHECK_LIMIT`; otherwise it is listed as skipped)."""
+        :data:`~mega_sat.engines.verify.SUPERSET_CHECK_LIMIT`; otherwise it is listed as skipped)."""
         if point is not None:
             if not isinstance(point, FrontierPoint | Explanation):
                 raise UsageError(
@@ -312,7 +313,7 @@ class MegaSolver:
             sel = self.task.selection_from_names(explanation or [])
             rc = hc = reported = None
         prod = producer or self.planner
-        from mega_sat.verify import checker_for
+        from mega_sat.engines.verify import checker_for
 
         reuse = self.oracles if checker_for(prod) == "sat" else None
         report = verify_pair(
@@ -332,7 +333,7 @@ class MegaSolver:
         if isinstance(point, Explanation) and point.kind == "mme":
             from dataclasses import replace
 
-            from mega_sat.verify import verify_supersets
+            from mega_sat.engines.verify import verify_supersets
 
             extra = verify_supersets(
                 self.task,
@@ -370,6 +371,6 @@ def explain(
 def verify(
     task: TwoModelTask, point: FrontierPoint | Explanation | None = None, **kw
 ) -> VerifyReport:
-    """Independent check of an answer (see :mod:`mega_sat.verify`)."""
+    """Independent check of an answer (see :mod:`mega_sat.engines.verify`)."""
     solver_kw = {k: kw.pop(k) for k in ("engine", "planner", "update_costs") if k in kw}
     return MegaSolver(task, **solver_kw).verify(point, **kw)

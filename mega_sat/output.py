@@ -11,7 +11,7 @@ Every command that writes results (``apply``, ``plan --out``, ``encode --out``, 
   the earlier folder is replaced as a whole (none of its files stay mixed in).  Leaving the
   ``with`` block any other way (an error, Ctrl-C, a time limit) removes the temporary folder.
 
-``mega-sat batch`` is the one writer that appends instead (:class:`mega_sat.batch.ResultsFile`):
+``mega-sat batch`` is the one writer that appends instead (:class:`mega_sat.cli.batch.ResultsFile`):
 its file grows by one whole, synced line per finished task, so that a stop keeps every task
 already done; a line cut short by a crash is dropped when the file is resumed.
 """

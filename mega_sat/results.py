@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
 
-from mega_sat.family import PlanStep, step_str
+from mega_sat.model.lifted import PlanStep, step_str
 
 
 @dataclass(frozen=True)
@@ -43,8 +43,8 @@ class FrontierPoint:
 
     def to_up_plan(self, problem: Any) -> Any:
         """The plan as a unified-planning ``SequentialPlan`` of ``problem`` (see
-        :mod:`mega_sat.up_models`)."""
-        from mega_sat.up_models import to_up_plan
+        :mod:`mega_sat.pddl.up_models`)."""
+        from mega_sat.pddl.up_models import to_up_plan
 
         return to_up_plan(self.plan, problem)
 
@@ -133,8 +133,8 @@ class Solution:
 
     def to_up_plan(self, problem: Any) -> Any:
         """The plan as a unified-planning ``SequentialPlan`` of ``problem`` (see
-        :mod:`mega_sat.up_models`)."""
-        from mega_sat.up_models import to_up_plan
+        :mod:`mega_sat.pddl.up_models`)."""
+        from mega_sat.pddl.up_models import to_up_plan
 
         return to_up_plan(self.chosen.plan, problem)
 
@@ -189,8 +189,8 @@ class Explanation:
 
     def to_up_plan(self, problem: Any) -> Any:
         """The plan as a unified-planning ``SequentialPlan`` of ``problem`` (see
-        :mod:`mega_sat.up_models`)."""
-        from mega_sat.up_models import to_up_plan
+        :mod:`mega_sat.pddl.up_models`)."""
+        from mega_sat.pddl.up_models import to_up_plan
 
         return to_up_plan(self.plan, problem)
 

@@ -3,17 +3,17 @@ against explicit-state ground truth on random families (tests/sat_families.py)."
 
 from __future__ import annotations
 
+from helpers.sat_families import agreeing, dijkstra, families, joint_brute, plan_cost, selections
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from sat_families import agreeing, dijkstra, families, joint_brute, plan_cost, selections
 
-from mega_sat.abstraction import abstract_task
-from mega_sat.family import GroundFamily
-from mega_sat.joint_search import JointSearcher, search_joint
-from mega_sat.node_planner import NodePlanner
-from mega_sat.pair_reachability import goal_pair_unreachable
-from mega_sat.search import astar
-from mega_sat.tiered_opt import TieredOpt
+from mega_sat.analysis.abstraction import abstract_task
+from mega_sat.analysis.pair_reachability import goal_pair_unreachable
+from mega_sat.ground.family import GroundFamily
+from mega_sat.planners.node_planner import NodePlanner
+from mega_sat.planners.tiered_opt import TieredOpt
+from mega_sat.search.astar import astar
+from mega_sat.search.joint import JointSearcher, search_joint
 
 SETTINGS = settings(
     max_examples=150, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck)
@@ -59,7 +59,7 @@ def test_pair_reachability_never_refutes_a_solvable_model(fam: GroundFamily, dat
 
 def test_pair_reachability_sees_what_relaxation_cannot():
     # one token moved between two places: the goal "at both" is relaxed-reachable only
-    from mega_sat.family import GroundAction
+    from mega_sat.ground.family import GroundAction
 
     move = GroundAction("move", ("a", "b"), None, ((0, None),), (), ((1, None),), ((0, None),),
                         (((), 1),))  # fmt: skip

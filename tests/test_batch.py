@@ -14,13 +14,13 @@ from pathlib import Path
 
 import pytest
 
-from mega_sat.batch import find_task_dirs, read_done
+from mega_sat.cli.batch import find_task_dirs, read_done
 from mega_sat.errors import MegaSatError
 from mega_sat.executor import completed
 
 ROOT = Path(__file__).resolve().parents[1]
 USAR = ["domains/usar-fetch/p1", "domains/usar-fetch/p2", "domains/usar-fetch/p3"]
-CLI = [sys.executable, "-c", "import sys; from mega_sat.cli import main; sys.exit(main())"]
+CLI = [sys.executable, "-c", "import sys; from mega_sat.cli.commands import main; sys.exit(main())"]
 
 
 def _batch(*args: str, **kw) -> subprocess.CompletedProcess:

@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner
 
-from mega_sat.benchmark import (
+from mega_sat.bench.harness import (
     bench_command,
     disagreements,
     fmt_seconds,

@@ -4,16 +4,16 @@ from __future__ import annotations
 
 import json
 
+from helpers.sat_families import families, selections
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from pysat.examples.rc2 import RC2
 from pysat.formula import CNF, WCNF
 from pysat.solvers import Solver
-from sat_families import families, selections
 
-from mega_sat.cnf_export import export, export_joint, export_opt
-from mega_sat.family import GroundFamily
-from mega_sat.oracles import SatOracles
+from mega_sat.ground.family import GroundFamily
+from mega_sat.sat.cnf_export import export, export_joint, export_opt
+from mega_sat.sat.oracles import SatOracles
 
 SETTINGS = settings(
     max_examples=60, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck)
@@ -59,7 +59,7 @@ def test_joint_export(fam: GroundFamily, data, tmp_path_factory):
 
 
 def test_default_bound_and_names(tmp_path):
-    from mega_sat.family import GroundAction
+    from mega_sat.ground.family import GroundAction
 
     act = GroundAction(
         "move", ("p1", "p2"), (0, True), ((0, None),), (), ((1, None),), ((0, None),), (((), 1),)

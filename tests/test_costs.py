@@ -23,15 +23,15 @@ import time
 from dataclasses import replace
 
 import pytest
+from helpers.sat_families import check_bounded_answer, dijkstra, families, plan_cost, selections
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from pysat.solvers import Solver
-from sat_families import check_bounded_answer, dijkstra, families, plan_cost, selections
 from test_sat_encoding import cheapest_within
 
-from mega_sat.family import GroundAction, GroundFamily
-from mega_sat.oracles import SatOracles
-from mega_sat.sat_encoding import HUMAN, ROBOT, UNARY_MAX_UNITS, FamilyEncoding
+from mega_sat.ground.family import GroundAction, GroundFamily
+from mega_sat.sat.encoding import HUMAN, ROBOT, UNARY_MAX_UNITS, FamilyEncoding
+from mega_sat.sat.oracles import SatOracles
 
 SETTINGS = settings(
     max_examples=60, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck)
@@ -204,7 +204,7 @@ def test_binary_bounds_match_bounded_search(fam: GroundFamily, data):
 @SETTINGS
 @given(fam=large_cost_families(min_cost=1), data=st.data())
 def test_opt_with_large_costs_matches_astar(fam: GroundFamily, data):
-    from mega_sat.search import astar
+    from mega_sat.search.astar import astar
 
     with bounded(120), SatOracles(fam) as orc:
         for _ in range(3):
@@ -282,7 +282,7 @@ def test_joint_with_large_costs_matches_paired_search(fam: GroundFamily, data):
 def test_ground_truth_pareto_search_agrees_with_joint_brute(fam: GroundFamily, data):
     """The ground truth of the JOINT test against ``sat_families.joint_brute`` where both are
     cheap (a check of the test's own oracle: it passes on any version of the solver)."""
-    from sat_families import joint_brute
+    from helpers.sat_families import joint_brute
 
     sel = data.draw(selections(fam.n_updates))
     hb = data.draw(st.integers(0, 7))
@@ -297,7 +297,7 @@ def test_wcnf_export_weighs_binary_cost_bits(scale, tmp_path):
     from pysat.examples.rc2 import RC2
     from pysat.formula import WCNF
 
-    from mega_sat.cnf_export import export_opt
+    from mega_sat.sat.cnf_export import export_opt
 
     costs = [scale + 1, 2 * scale - 1, 3]
     fam = _family(costs)  # optimum: the chain, sum(costs); the jump costs one more
@@ -314,8 +314,8 @@ def test_operator_counting_bound_stays_below_costs_beyond_the_lp_file_precision(
     """PuLP hands CBC the costs with 13 significant digits: 10^13 + 3 and 10^13 + 1 both
     become 10^13, CBC may count the dearer action, and its cost is then a "bound" above the
     optimum.  Scaled costs keep the bound below it."""
-    from mega_sat.family import GroundTask, StripsAction
-    from mega_sat.operator_counting import operator_counting_bound
+    from mega_sat.analysis.operator_counting import operator_counting_bound
+    from mega_sat.ground.family import GroundTask, StripsAction
 
     for costs in ([10**13 + 3, 10**13 + 1], [10**15 + 7, 10**15 + 1, 10**15 + 4]):
         acts = tuple(
@@ -397,15 +397,16 @@ def _limit_memory() -> None:
 def test_frontier_with_large_costs_in_bounded_time_and_memory(scale, variant, tmp_path):
     """``mega-sat frontier`` in a subprocess limited to 2 GB of address space and 60 s: the
     frontier is complete, exact, and that of the brute-force oracle and of the astar engine."""
+    from helpers.bruteforce import brute_force_frontier
+
     from mega_sat.api import frontier
-    from mega_sat.bruteforce import brute_force_frontier
-    from mega_sat.grounding import ground
-    from mega_sat.loading import load_task_from_strings
+    from mega_sat.ground.grounding import ground
+    from mega_sat.pddl.loading import load_task_from_strings
 
     texts = usar_texts(scale, variant)
     for name, text in texts.items():
         (tmp_path / name).write_text(text)
-    cli = "import sys; sys.argv[0] = 'mega-sat'; from mega_sat.cli import main; main()"
+    cli = "import sys; sys.argv[0] = 'mega-sat'; from mega_sat.cli.commands import main; main()"
     t0 = time.perf_counter()
     res = subprocess.run(
         [sys.executable, "-c", cli, "frontier", "--task", str(tmp_path), "--json"],

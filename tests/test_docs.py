@@ -8,8 +8,8 @@ from pathlib import Path
 
 import pytest
 
-from mega_sat.fast_downward import fd_available
-from mega_sat.val import val_available
+from mega_sat.planners.fast_downward import fd_available
+from mega_sat.planners.val import val_available
 
 ROOT = Path(__file__).resolve().parent.parent
 

@@ -7,17 +7,17 @@ import json
 from pathlib import Path
 
 import pytest
+from helpers.bruteforce import brute_force_frontier
 
 from mega_sat.api import MegaSolver
-from mega_sat.bruteforce import brute_force_frontier
-from mega_sat.fast_downward import fd_available
-from mega_sat.features import gamma
-from mega_sat.grounding import ground
-from mega_sat.loading import load_task, resolve_task_dir
-from mega_sat.node_planner import NodePlanner
-from mega_sat.pddl_reader import parse_model
-from mega_sat.pddl_writer import domain_to_pddl, problem_to_pddl
-from mega_sat.verify import verify_pair
+from mega_sat.engines.verify import verify_pair
+from mega_sat.ground.grounding import ground
+from mega_sat.model.features import gamma
+from mega_sat.pddl.loading import load_task, resolve_task_dir
+from mega_sat.pddl.reader import parse_model
+from mega_sat.pddl.writer import domain_to_pddl, problem_to_pddl
+from mega_sat.planners.fast_downward import fd_available
+from mega_sat.planners.node_planner import NodePlanner
 
 ROOT = Path(__file__).resolve().parent.parent
 DOMAINS = ROOT / "domains"
@@ -164,7 +164,7 @@ def test_sat_frontier_equals_independent_oracle(rel):
         return
     # MCE of the robot-optimal plan the solver picks: the smallest E in whose model the plan
     # runs at the oracle's optimum c*(E) (plans simulated by our simulator, optima from FD)
-    from mega_sat.simulate import simulate_ground
+    from mega_sat.ground.simulate import simulate_ground
 
     mce = solver.explain()
     index = {u.name: i for i, u in enumerate(task.delta)}

@@ -1,6 +1,6 @@
 """Both MEGA engines and MCE against the brute-force oracle, on random small tasks.
 
-The oracle (mega_sat.bruteforce) enumerates every subset of Delta and uses explicit-state
+The oracle (helpers.bruteforce) enumerates every subset of Delta and uses explicit-state
 Dijkstra over paired (robot, human) states; it shares no code with the SAT encoding, the
 hitting-set loop or the A* model-space search.
 """
@@ -10,21 +10,21 @@ from __future__ import annotations
 from fractions import Fraction
 
 import pytest
+from helpers.bruteforce import brute_force_frontier, brute_force_mce
+from helpers.minitasks import usar_like
+from helpers.randomtasks import two_model_tasks
+from helpers.tradeoff_tasks import tradeoff_tasks
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from minitasks import usar_like
-from randomtasks import two_model_tasks
-from tradeoff_tasks import tradeoff_tasks
 
-from mega_sat.astar_engine import astar_frontier, astar_solve
-from mega_sat.bruteforce import brute_force_frontier, brute_force_mce
+from mega_sat.engines.astar import astar_frontier, astar_solve
+from mega_sat.engines.mce import minimal_explanation
+from mega_sat.engines.sat_loop import sat_frontier
+from mega_sat.engines.verify import verify_pair
 from mega_sat.errors import UnsolvableError
-from mega_sat.grounding import ground
-from mega_sat.mce import minimal_explanation
-from mega_sat.oracles import SatOracles
+from mega_sat.ground.grounding import ground
 from mega_sat.results import choose
-from mega_sat.sat_engine import sat_frontier
-from mega_sat.verify import verify_pair
+from mega_sat.sat.oracles import SatOracles
 
 SETTINGS = settings(
     max_examples=150,
@@ -191,7 +191,7 @@ def test_time_limit_bounds_the_explicit_opt_planner(planner):
     from pathlib import Path
 
     from mega_sat.api import MegaSolver
-    from mega_sat.loading import load_task, resolve_task_dir
+    from mega_sat.pddl.loading import load_task, resolve_task_dir
 
     d = Path(__file__).resolve().parent.parent / "domains" / "barman-bar" / "delta" / "15" / "p3"
     task = load_task(**resolve_task_dir(str(d)))

@@ -3,14 +3,14 @@
 from __future__ import annotations
 
 import pytest
+from helpers.randomtasks import models
 from hypothesis import HealthCheck, given, settings
-from randomtasks import models
 
 from mega_sat.errors import PlannerError
-from mega_sat.fast_downward import fd_available, fd_plan, parse_plan_text
-from mega_sat.grounding import ground_model
-from mega_sat.search import astar
-from mega_sat.simulate import simulate
+from mega_sat.ground.grounding import ground_model
+from mega_sat.ground.simulate import simulate
+from mega_sat.planners.fast_downward import fd_available, fd_plan, parse_plan_text
+from mega_sat.search.astar import astar
 
 needs_fd = pytest.mark.skipif(not fd_available(), reason="Fast Downward not installed")
 
@@ -62,7 +62,7 @@ def test_errors_raise_planner_error():
 @settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(models(allow_zero_cost=True))
 def test_fd_optimal_cost_equals_builtin(model):
-    from mega_sat.pddl_writer import domain_to_pddl, problem_to_pddl
+    from mega_sat.pddl.writer import domain_to_pddl, problem_to_pddl
 
     builtin = astar(ground_model(model))
     fd = fd_plan(domain_to_pddl(model), problem_to_pddl(model))

@@ -11,12 +11,12 @@ from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
-from fuzzing import FUZZ
+from helpers.fuzzing import FUZZ
 from hypothesis import given
 from hypothesis import strategies as st
 
 from mega_sat import errors
-from mega_sat.cli import main
+from mega_sat.cli.commands import main
 
 ROOT = Path(__file__).resolve().parent.parent
 EXIT_CODES = set(errors.EXIT_CODES)
@@ -135,7 +135,7 @@ VALUES = [None, 0, -1, 0.1, float("nan"), float("inf"), "5", "abc", "", b"x", []
 
 @pytest.fixture(scope="module")
 def usar():
-    from mega_sat.loading import load_task_dir
+    from mega_sat.pddl.loading import load_task_dir
 
     return load_task_dir(ROOT / "domains/usar-fetch/p1")
 

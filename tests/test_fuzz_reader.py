@@ -10,16 +10,16 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from fuzzing import FUZZ
+from helpers.fuzzing import FUZZ
 from hypothesis import given
 from hypothesis import strategies as st
 
 from mega_sat.errors import MegaSatError
-from mega_sat.loading import load_task_from_strings
-from mega_sat.pddl_reader import parse_model
-from mega_sat.planio import parse_plan
+from mega_sat.pddl.loading import load_task_from_strings
+from mega_sat.pddl.planio import parse_plan
+from mega_sat.pddl.reader import parse_model
 
-pytestmark = pytest.mark.filterwarnings("ignore::mega_sat.pddl_reader.PDDLWarning")
+pytestmark = pytest.mark.filterwarnings("ignore::mega_sat.pddl.reader.PDDLWarning")
 
 ROOT = Path(__file__).resolve().parent.parent
 SOURCES = sorted(
@@ -106,8 +106,8 @@ def test_random_plans(text):
 
 
 def test_binary_file_as_pddl_and_plan(tmp_path):
-    from mega_sat.loading import load_task
-    from mega_sat.planio import read_plan
+    from mega_sat.pddl.loading import load_task
+    from mega_sat.pddl.planio import read_plan
 
     blob = tmp_path / "blob.bin"
     blob.write_bytes(bytes(range(256)) * 4)

@@ -6,16 +6,16 @@ import time
 from dataclasses import replace
 from itertools import product
 
+from helpers.randomtasks import applicable_steps, plans, selections, two_model_tasks
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from randomtasks import applicable_steps, plans, selections, two_model_tasks
 
-from mega_sat.family import holds
-from mega_sat.features import COST, FVALUE, GOAL, INIT, PRE, SCHEMA
-from mega_sat.grounding import ground, ground_model
-from mega_sat.model import Model, Schema
-from mega_sat.simulate import simulate, simulate_ground
-from mega_sat.task import TwoModelTask
+from mega_sat.ground.family import holds
+from mega_sat.ground.grounding import ground, ground_model
+from mega_sat.ground.simulate import simulate, simulate_ground
+from mega_sat.model.features import COST, FVALUE, GOAL, INIT, PRE, SCHEMA
+from mega_sat.model.lifted import Model, Schema
+from mega_sat.model.task import TwoModelTask
 
 
 def mk(schemas, init, goal, objects=("a", "b", "c"), functions=None, preds=None) -> Model:

@@ -11,9 +11,9 @@ from pathlib import Path
 import pytest
 
 from mega_sat.errors import MegaSatError, UsageError
-from mega_sat.loading import load_task, load_task_from_strings
-from mega_sat.pddl_reader import PDDLWarning
-from mega_sat.planio import as_plan
+from mega_sat.pddl.loading import load_task, load_task_from_strings
+from mega_sat.pddl.planio import as_plan
+from mega_sat.pddl.reader import PDDLWarning
 
 ROOT = Path(__file__).resolve().parent.parent
 USAR = ROOT / "domains" / "usar-fetch"
@@ -65,7 +65,7 @@ def test_the_cli_prints_the_warning_as_one_line(tmp_path):
     problem = tmp_path / "human-problem.pddl"
     problem.write_text(FILES[3].read_text().replace("(:domain usar-fetch)", "(:domain other)"))
     r = subprocess.run(
-        [sys.executable, "-m", "mega_sat.cli", "diff"]
+        [sys.executable, "-m", "mega_sat.cli.commands", "diff"]
         + ["--robot-domain", str(FILES[0]), "--robot-problem", str(FILES[1])]
         + ["--human-domain", str(FILES[2]), "--human-problem", str(problem)],
         capture_output=True,
@@ -115,7 +115,7 @@ def test_malformed_plans_are_one_clear_error(bad):
 
 
 def test_a_task_folder_loads_in_one_call_and_a_starred_dict_is_explained():
-    from mega_sat.loading import load_task_dir, resolve_task_dir
+    from mega_sat.pddl.loading import load_task_dir, resolve_task_dir
 
     paths = resolve_task_dir(USAR / "p1")
     assert load_task_dir(USAR / "p1").delta == load_task(**paths).delta
@@ -140,7 +140,7 @@ def test_a_task_folder_loads_in_one_call_and_a_starred_dict_is_explained():
 def test_every_command_reports_the_grounding_sizes_with_v(args, tmp_path):
     from click.testing import CliRunner
 
-    from mega_sat.cli import main
+    from mega_sat.cli.commands import main
 
     e, p = tmp_path / "e.txt", tmp_path / "p.ipc"
     e.write_text("add-has-initial-state-clear_path p6 p7\n")

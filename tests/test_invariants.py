@@ -1,16 +1,16 @@
-"""Invariants added to the SAT encoding (mega_sat/invariants.py) and greedy action elimination
-(mega_sat/plan_reduction.py), against explicit-state ground truth on random families."""
+"""Invariants added to the SAT encoding (mega_sat/analysis/invariants.py) and greedy action elimination
+(mega_sat/search/plan_reduction.py), against explicit-state ground truth on random families."""
 
 from __future__ import annotations
 
 import pytest
+from helpers.sat_families import all_selections, families, plan_cost, selections
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from sat_families import all_selections, families, plan_cost, selections
 
-from mega_sat.family import GroundFamily, GroundTask
-from mega_sat.invariants import family_invariants
-from mega_sat.plan_reduction import reduce_plan
+from mega_sat.analysis.invariants import family_invariants
+from mega_sat.ground.family import GroundFamily, GroundTask
+from mega_sat.search.plan_reduction import reduce_plan
 
 SETTINGS = settings(
     max_examples=150, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck)
@@ -65,7 +65,7 @@ def test_invariants_of_a_fixed_selection_hold_in_that_model(fam: GroundFamily, d
 
 
 def test_invariants_find_the_mutexes_of_a_one_place_robot():
-    from mega_sat.family import GroundAction
+    from mega_sat.ground.family import GroundAction
 
     # at-a, at-b, at-c; move x->y deletes at-x, adds at-y
     atoms = (("at", "a"), ("at", "b"), ("at", "c"))
@@ -122,9 +122,9 @@ def test_reduce_plan_keeps_a_valid_plan_and_never_costs_more(fam, data, seed, st
 def test_dropping_irrelevant_actions_keeps_every_members_optimum(fam: GroundFamily):
     from dataclasses import replace
 
-    from sat_families import dijkstra
+    from helpers.sat_families import dijkstra
 
-    from mega_sat.invariants import NEVER, steps_to_goal
+    from mega_sat.analysis.invariants import NEVER, steps_to_goal
 
     rel = {j for j, k in enumerate(steps_to_goal(fam)) if k < NEVER}
     for sel in all_selections(fam.n_updates):
@@ -153,7 +153,7 @@ def _cheapest_within(task: GroundTask, h: int, allowed) -> int | None:
 @SETTINGS
 @given(fam=families(), h=st.integers(0, 5))
 def test_backward_layers_keep_the_cheapest_plan_of_every_length(fam: GroundFamily, h: int):
-    from mega_sat.invariants import steps_to_goal
+    from mega_sat.analysis.invariants import steps_to_goal
 
     k = steps_to_goal(fam)
     for sel in all_selections(fam.n_updates):
@@ -166,7 +166,7 @@ def test_backward_layers_keep_the_cheapest_plan_of_every_length(fam: GroundFamil
 @SETTINGS
 @given(fam=families())
 def test_guarded_mutexes_hold_in_every_member_where_their_guard_holds(fam: GroundFamily):
-    from mega_sat.invariants import encoding_facts
+    from mega_sat.analysis.invariants import encoding_facts
 
     facts = encoding_facts(fam)
     for sel in all_selections(fam.n_updates):
@@ -180,7 +180,7 @@ def test_guarded_mutexes_hold_in_every_member_where_their_guard_holds(fam: Groun
 
 def _guarded_without_skipping(fam: GroundFamily) -> set:
     """Every update fixed both ways, with an h^2 computation each (no shortcut)."""
-    from mega_sat.invariants import family_invariants
+    from mega_sat.analysis.invariants import family_invariants
 
     have = set(family_invariants(fam).binary)
     out = set()
@@ -195,7 +195,7 @@ def _guarded_without_skipping(fam: GroundFamily) -> set:
 @SETTINGS
 @given(fam=families())
 def test_guarded_mutexes_skip_only_fixings_that_find_nothing(fam: GroundFamily):
-    from mega_sat.invariants import encoding_facts
+    from mega_sat.analysis.invariants import encoding_facts
 
     assert set(encoding_facts(fam).guarded) == _guarded_without_skipping(fam)
 
@@ -204,9 +204,9 @@ def test_guarded_mutexes_skip_only_fixings_that_find_nothing(fam: GroundFamily):
 def test_guarded_mutexes_skip_only_fixings_that_find_nothing_on_shipped_problems(name):
     from pathlib import Path
 
-    from mega_sat.grounding import ground
-    from mega_sat.invariants import encoding_facts
-    from mega_sat.loading import load_task, resolve_task_dir
+    from mega_sat.analysis.invariants import encoding_facts
+    from mega_sat.ground.grounding import ground
+    from mega_sat.pddl.loading import load_task, resolve_task_dir
 
     d = Path(__file__).resolve().parent.parent / "domains" / name
     fam = ground(load_task(**resolve_task_dir(d)))

@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from mega_sat.errors import ModelMismatchError, PDDLError, UsageError
-from mega_sat.loading import load_task, load_task_from_strings, resolve_task_dir
+from mega_sat.pddl.loading import load_task, load_task_from_strings, resolve_task_dir
 
 DATA = Path(__file__).parent / "data" / "frontend"
 TYPES = DATA / "pair-types"

@@ -10,9 +10,10 @@ import itertools
 from pathlib import Path
 
 import pytest
+from helpers.bruteforce import best_for_selection, brute_force_frontier
 
 from mega_sat.api import MegaSolver
-from mega_sat.benchmark import (
+from mega_sat.bench.harness import (
     MISSING_SCHEMAS_DIR,
     discover,
     missing_schemas_summary,
@@ -20,11 +21,10 @@ from mega_sat.benchmark import (
     plan_jobs,
     render_markdown,
 )
-from mega_sat.bruteforce import best_for_selection, brute_force_frontier
-from mega_sat.features import SCHEMA
-from mega_sat.loading import load_task, resolve_task_dir
-from mega_sat.task import TwoModelTask
-from mega_sat.verify import verify_pair
+from mega_sat.engines.verify import verify_pair
+from mega_sat.model.features import SCHEMA
+from mega_sat.model.task import TwoModelTask
+from mega_sat.pddl.loading import load_task, resolve_task_dir
 
 DOMAINS = Path(__file__).resolve().parent.parent / "domains"
 SUITE = DOMAINS / MISSING_SCHEMAS_DIR

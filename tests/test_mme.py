@@ -1,8 +1,8 @@
 """MME (minimally monotonic explanation) against a brute-force oracle, and its CLI and API.
 
-The oracle (``mega_sat.bruteforce.brute_force_mme``) simulates the plan and computes the
+The oracle (``helpers.bruteforce.brute_force_mme``) simulates the plan and computes the
 optimum of every ``human + E'`` by explicit-state Dijkstra over all ``2^|Delta|`` subsets; it
-shares no code with the hitting-set loop or the superset searches of ``mega_sat.mme``.
+shares no code with the hitting-set loop or the superset searches of ``mega_sat.engines.mme``.
 """
 
 from __future__ import annotations
@@ -13,22 +13,22 @@ from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
+from helpers.bruteforce import _Space, brute_force_mme
+from helpers.minitasks import _nav_model, hidden_trap, usar_like
+from helpers.randomtasks import two_model_tasks
+from helpers.tradeoff_tasks import tradeoff_tasks
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from minitasks import _nav_model, hidden_trap, usar_like
-from randomtasks import two_model_tasks
-from tradeoff_tasks import tradeoff_tasks
 
 from mega_sat.api import MegaSolver, load_task_dir
-from mega_sat.bruteforce import _Space, brute_force_mme
-from mega_sat.cli import main
+from mega_sat.cli.commands import main
 from mega_sat.deadline import NO_DEADLINE
+from mega_sat.engines.mce import minimal_explanation
+from mega_sat.engines.mme import cheaper_superset, failing_superset, minimally_monotonic_explanation
 from mega_sat.errors import MegaSatError, UsageError
-from mega_sat.grounding import ground
-from mega_sat.mce import minimal_explanation
-from mega_sat.mme import cheaper_superset, failing_superset, minimally_monotonic_explanation
-from mega_sat.simulate import simulate_ground
-from mega_sat.task import TwoModelTask
+from mega_sat.ground.grounding import ground
+from mega_sat.ground.simulate import simulate_ground
+from mega_sat.model.task import TwoModelTask
 
 ROOT = Path(__file__).resolve().parent.parent
 USAR = ROOT / "domains" / "usar-fetch" / "p1"
@@ -70,7 +70,7 @@ def nav_maps(draw) -> TwoModelTask:
 def cost_tasks(draw) -> TwoModelTask:
     """2-4 schemas reaching ``done`` directly or through ``half``, with random costs 0-3 in
     each model: the plan's own cost and its rivals' change with the updates (and may be 0)."""
-    from mega_sat.model import Model, Schema
+    from mega_sat.model.lifted import Model, Schema
 
     shapes = [
         (frozenset(), frozenset({("done",)})),
@@ -114,7 +114,7 @@ def _robot_plan(fam):
     robot = _Space(fam.specialize(fam.robot_selection), 20_000)
     if robot.opt is None:
         return None
-    from mega_sat.search import solve_optimal
+    from mega_sat.search.astar import solve_optimal
 
     return solve_optimal(fam.specialize(fam.robot_selection)).plan
 
@@ -214,7 +214,7 @@ def test_hidden_trap_tells_mme_from_mce():
 
 
 def _cost_trap(robot_costs: dict[str, int], human_costs: dict[str, int]) -> TwoModelTask:
-    from mega_sat.model import Model, Schema
+    from mega_sat.model.lifted import Model, Schema
 
     def model(costs):
         schemas = {n: Schema(n, (), add=frozenset({("done",)}), cost=c) for n, c in costs.items()}
@@ -287,7 +287,7 @@ def test_shipped_base_problems_equal_brute_force(rel):
     except RuntimeError:
         # rover-martian p2, p3: beyond the oracle; the MME is still optimal in every
         # superset (by the built-in planner) and no smaller than the MCE
-        from mega_sat.search import solve_optimal
+        from mega_sat.search.astar import solve_optimal
 
         rest = sorted(set(range(len(task.delta))) - ex.selection)
         for k in range(1 << len(rest)):
@@ -303,7 +303,7 @@ def _enumerated_mme(task, fam, plan) -> int:
     """The MME size by optimal A* (``solve_optimal``) on every subset of Delta, for tasks
     whose full state spaces are beyond ``brute_force_mme`` (MME's searches share no code
     with it; its OPT calls only propose witnesses)."""
-    from mega_sat.search import solve_optimal
+    from mega_sat.search.astar import solve_optimal
 
     n = len(task.delta)
     good = []
@@ -404,7 +404,7 @@ def test_verify_covers_the_supersets():
         "FAIL optimal in every human + E' with E < E' <= Delta: with "
         "add-has-initial-state-clear_path p1 p9 also explained: optimum 3; plan: 4"
     )
-    from mega_sat.verify import verify_supersets
+    from mega_sat.engines.verify import verify_supersets
 
     skipped = verify_supersets(task, s.family, frozenset(), mme.plan, checker="builtin", limit=2)
     assert skipped == "optimal in every human + E' with E < E' <= Delta: 3 supersets, more than 2"

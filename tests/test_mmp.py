@@ -13,7 +13,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 USAR = ROOT / "domains" / "usar-fetch"
-CLI = [sys.executable, "-c", "import sys; from mega_sat.cli import main; sys.exit(main())"]
+CLI = [sys.executable, "-c", "import sys; from mega_sat.cli.commands import main; sys.exit(main())"]
 MODELS = [
     "-m",
     str(USAR / "robot-domain.pddl"),

@@ -8,16 +8,20 @@ import math
 from pathlib import Path
 
 import pytest
+from helpers.sat_families import agreeing, dijkstra, families, selections
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from sat_families import agreeing, dijkstra, families, selections
 
-from mega_sat.abstraction import abstract_task
-from mega_sat.family import GroundFamily
-from mega_sat.grounding import ground
-from mega_sat.loading import load_task, resolve_task_dir
-from mega_sat.operator_counting import landmarks, operator_counting_bound, state_equation_rows
-from mega_sat.search import astar
+from mega_sat.analysis.abstraction import abstract_task
+from mega_sat.analysis.operator_counting import (
+    landmarks,
+    operator_counting_bound,
+    state_equation_rows,
+)
+from mega_sat.ground.family import GroundFamily
+from mega_sat.ground.grounding import ground
+from mega_sat.pddl.loading import load_task, resolve_task_dir
+from mega_sat.search.astar import astar
 
 SETTINGS = settings(
     max_examples=150, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck)

@@ -10,9 +10,8 @@ from pathlib import Path
 
 from click.testing import CliRunner
 
-from mega_sat import oracle_bench
-from mega_sat.cli import main
-from mega_sat.oracle_bench import (
+from mega_sat.bench import oracle_calls as oracle_bench
+from mega_sat.bench.oracle_calls import (
     CALL_STATUSES,
     direct_selections,
     merge_repeats,
@@ -21,6 +20,7 @@ from mega_sat.oracle_bench import (
     run_instance,
     summary,
 )
+from mega_sat.cli.commands import main
 
 DOMAINS = Path(__file__).resolve().parent.parent / "domains"
 

@@ -3,9 +3,7 @@
 from __future__ import annotations
 
 import pytest
-from hypothesis import HealthCheck, given, settings
-from hypothesis import strategies as st
-from sat_families import (
+from helpers.sat_families import (
     agreeing,
     dijkstra,
     families,
@@ -14,9 +12,11 @@ from sat_families import (
     selections,
     symmetric_families,
 )
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
-from mega_sat.family import GroundAction, GroundFamily
-from mega_sat.oracles import JointResult, OptResult, SatOracles
+from mega_sat.ground.family import GroundAction, GroundFamily
+from mega_sat.sat.oracles import JointResult, OptResult, SatOracles
 
 SETTINGS = settings(
     max_examples=150, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck)
@@ -43,7 +43,7 @@ def check_opt(fam: GroundFamily, orc: SatOracles, sel: frozenset[int]) -> OptRes
 @SETTINGS
 @given(fam=families(), data=st.data())
 def test_opt_matches_dijkstra_and_astar(options, fam: GroundFamily, data):
-    from mega_sat.search import astar
+    from mega_sat.search.astar import astar
 
     with SatOracles(fam, **options) as orc:
         for _ in range(3):
@@ -150,7 +150,7 @@ def test_horizon_cap_fallback_stops_at_the_deadline():
     import time
     from dataclasses import replace
 
-    from mega_sat.oracles import OracleInterrupted
+    from mega_sat.sat.oracles import OracleInterrupted
 
     n, k = 8, 16
     fam = _chain(n)
@@ -196,10 +196,10 @@ def test_usar_fetch_domain(problem):
     """Smoke test on a real domain: OPT and JOINT agree with explicit search."""
     from pathlib import Path
 
-    from mega_sat.grounding import ground
-    from mega_sat.pddl_reader import read_model
-    from mega_sat.search import astar
-    from mega_sat.task import TwoModelTask
+    from mega_sat.ground.grounding import ground
+    from mega_sat.model.task import TwoModelTask
+    from mega_sat.pddl.reader import read_model
+    from mega_sat.search.astar import astar
 
     d = Path(__file__).resolve().parent.parent / "domains" / "usar-fetch"
     pdir = d / problem
@@ -265,7 +265,7 @@ def test_bad_hint_is_ignored_and_good_hint_is_used():
 def test_interrupt_and_deadline_leave_oracles_usable():
     import time
 
-    from mega_sat.oracles import OracleInterrupted
+    from mega_sat.sat.oracles import OracleInterrupted
 
     fam = _chain(6)
     with SatOracles(fam) as orc:
@@ -309,7 +309,7 @@ def test_deadline_interrupts_a_long_call(solver):
     """A call that would run long is stopped near the deadline (CaDiCaL: after a chunk)."""
     import time
 
-    from mega_sat.oracles import OracleInterrupted
+    from mega_sat.sat.oracles import OracleInterrupted
 
     fam = _chain(3)
     with SatOracles(fam, solver=solver, solve_chunk=50) as orc:
@@ -334,7 +334,7 @@ def test_cadical_chunks_follow_the_deadline_not_the_chunk_cap():
     fixed chunk overran ``--timeout`` by 5 s on barman-bar Δ=20 p2)."""
     import time
 
-    from mega_sat.oracles import OracleInterrupted
+    from mega_sat.sat.oracles import OracleInterrupted
 
     with SatOracles(_chain(3), solver="cadical195", solve_chunk=10**9) as orc:
         act = _add_pigeonhole(orc, 12, 11)
@@ -421,8 +421,8 @@ def test_joint_by_dominance_on_barman():
     optimum JOINT needs no robot copy, and its core alone is infeasible in the full JOINT."""
     from pathlib import Path
 
-    from mega_sat.grounding import ground
-    from mega_sat.loading import load_task, resolve_task_dir
+    from mega_sat.ground.grounding import ground
+    from mega_sat.pddl.loading import load_task, resolve_task_dir
 
     d = Path(__file__).resolve().parent.parent / "domains" / "barman-bar" / "p1"
     fam = ground(load_task(**resolve_task_dir(d)))
@@ -441,7 +441,7 @@ def test_symmetry_breaking_keeps_opt_and_joint_exact(partial_order, fam: GroundF
     """Families with two interchangeable objects: the lex-leader clauses of the object swap
     (alone, and together with partial-order reduction) change no OPT cost, no JOINT answer,
     and cores stay sound."""
-    from mega_sat.symmetry import object_swaps
+    from mega_sat.sat.symmetry import object_swaps
 
     assert [(s.a, s.b) for s in object_swaps(fam)] == [("oa", "ob")]
     with SatOracles(fam, partial_order=partial_order) as orc:
@@ -477,9 +477,9 @@ def test_joint_by_dominance_cores_from_operator_counting_on_rover():
     by operator counting alone, and every model agreeing with it has no plan within K."""
     from pathlib import Path
 
-    from mega_sat.grounding import ground
-    from mega_sat.loading import load_task, resolve_task_dir
-    from mega_sat.search import astar
+    from mega_sat.ground.grounding import ground
+    from mega_sat.pddl.loading import load_task, resolve_task_dir
+    from mega_sat.search.astar import astar
 
     d = Path(__file__).resolve().parent.parent / "domains" / "rover-martian" / "p3"
     fam = ground(load_task(**resolve_task_dir(d)))
@@ -500,8 +500,8 @@ def test_lowered_cost_search_with_a_plan_runs_only_while_it_shortens_horizons():
     first upper bound); mostly running out of expansions stops them either way."""
     from pathlib import Path
 
-    from mega_sat.grounding import ground
-    from mega_sat.loading import load_task, resolve_task_dir
+    from mega_sat.ground.grounding import ground
+    from mega_sat.pddl.loading import load_task, resolve_task_dir
 
     d = Path(__file__).resolve().parent.parent / "domains" / "barman-bar" / "p3"
     fam = ground(load_task(**resolve_task_dir(d)))
@@ -529,9 +529,9 @@ def test_step_queries_keep_opt_exact_on_shipped_problems(problem):
     import itertools
     from pathlib import Path
 
-    from mega_sat.grounding import ground
-    from mega_sat.loading import load_task, resolve_task_dir
-    from mega_sat.search import astar
+    from mega_sat.ground.grounding import ground
+    from mega_sat.pddl.loading import load_task, resolve_task_dir
+    from mega_sat.search.astar import astar
 
     d = Path(__file__).resolve().parent.parent / "domains" / problem
     fam = ground(load_task(**resolve_task_dir(d)))

@@ -9,7 +9,7 @@ import pytest
 
 from mega_sat.errors import UsageError
 from mega_sat.output import OutputError, OutputFolder, check_target, write_file
-from mega_sat.pddl_writer import write_text
+from mega_sat.pddl.writer import write_text
 
 
 def _leftovers(folder):
@@ -113,7 +113,10 @@ def _cli(*args):
 
     root = Path(__file__).resolve().parent.parent
     return subprocess.run(
-        [sys.executable, "-m", "mega_sat.cli", *args], capture_output=True, text=True, cwd=root
+        [sys.executable, "-m", "mega_sat.cli.commands", *args],
+        capture_output=True,
+        text=True,
+        cwd=root,
     )
 
 

@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from mega_sat.errors import PDDLError
-from mega_sat.pddl_reader import parse_model, read_model
+from mega_sat.pddl.reader import parse_model, read_model
 
 DATA = Path(__file__).parent / "data" / "frontend"
 BASE_DOMAIN = DATA / "base-domain.pddl"

@@ -12,10 +12,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from mega_sat.errors import UsageError
-from mega_sat.features import gamma
-from mega_sat.model import Model, Schema
-from mega_sat.pddl_reader import parse_model, read_model
-from mega_sat.pddl_writer import domain_to_pddl, problem_to_pddl, write_model
+from mega_sat.model.features import gamma
+from mega_sat.model.lifted import Model, Schema
+from mega_sat.pddl.reader import parse_model, read_model
+from mega_sat.pddl.writer import domain_to_pddl, problem_to_pddl, write_model
 
 DATA = Path(__file__).parent / "data" / "frontend"
 FIXTURES = [

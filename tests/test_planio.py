@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from mega_sat.errors import PDDLError, UsageError
-from mega_sat.planio import format_plan, parse_plan, read_plan, write_plan
+from mega_sat.pddl.planio import format_plan, parse_plan, read_plan, write_plan
 
 
 def test_parse_fast_downward_output():

@@ -16,10 +16,11 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner
 
-from mega_sat import api, progress
-from mega_sat.cli import main
+from mega_sat import api
+from mega_sat.cli.commands import main
 from mega_sat.deadline import Deadline
-from mega_sat.progress import PROGRESS_ENV, LiveProgress, Progress, progress_wanted
+from mega_sat.engines import progress
+from mega_sat.engines.progress import PROGRESS_ENV, LiveProgress, Progress, progress_wanted
 
 ROOT = Path(__file__).resolve().parent.parent
 USAR = ROOT / "domains" / "usar-fetch" / "p1"
@@ -123,7 +124,7 @@ def _on_a_terminal(args: list[str]) -> tuple[str, str]:
     fcntl.ioctl(child, termios.TIOCSWINSZ, struct.pack("HHHH", 24, 120, 0, 0))  # 120 columns
     env = {k: v for k, v in os.environ.items() if k != PROGRESS_ENV}
     proc = subprocess.Popen(
-        [sys.executable, "-m", "mega_sat.cli", *args],
+        [sys.executable, "-m", "mega_sat.cli.commands", *args],
         cwd=ROOT,
         stdout=subprocess.PIPE,
         stderr=child,

@@ -20,7 +20,7 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner
 
-from mega_sat.cli import main
+from mega_sat.cli.commands import main
 from mega_sat.deadline import MAX_TIMEOUT, NO_DEADLINE, Deadline, TimeLimitReached, parse_timeout
 from mega_sat.errors import EXIT_CODES, UsageError
 
@@ -29,7 +29,11 @@ USAR = ROOT / "domains" / "usar-fetch" / "p1"
 LONG_FRONTIER = ROOT / "domains" / "rover-martian" / "delta" / "30" / "p1"
 """A frontier that takes several seconds and finds its first point within about one."""
 
-PROGRAM = [sys.executable, "-c", "import sys; from mega_sat.cli import main; sys.exit(main())"]
+PROGRAM = [
+    sys.executable,
+    "-c",
+    "import sys; from mega_sat.cli.commands import main; sys.exit(main())",
+]
 WAIT = 30.0
 """Seconds a subprocess test waits before it kills the child and fails."""
 
@@ -125,7 +129,7 @@ def test_deadline_checks():
 def test_api_time_limit_covers_grounding(big_grounding):
     """MegaSolver(timeout=...) counts from its creation and grounding checks the deadline."""
     from mega_sat.api import MegaSolver
-    from mega_sat.loading import load_task, resolve_task_dir
+    from mega_sat.pddl.loading import load_task, resolve_task_dir
 
     task = load_task(**resolve_task_dir(str(big_grounding)))
     t0 = time.perf_counter()
@@ -140,8 +144,8 @@ def test_api_partial_frontier_after_an_interrupt(monkeypatch):
     """The points proven before an interrupt (here KeyboardInterrupt in the second JOINT call
     after the first point) stay available, marked incomplete."""
     from mega_sat.api import MegaSolver
-    from mega_sat.loading import load_task, resolve_task_dir
-    from mega_sat.oracles import SatOracles
+    from mega_sat.pddl.loading import load_task, resolve_task_dir
+    from mega_sat.sat.oracles import SatOracles
 
     joint = SatOracles.joint
     found = []
@@ -252,7 +256,7 @@ def test_json_errors_are_one_object():
 
 def _sleep_past_deadline_after_first_point(monkeypatch):
     """JOINT answers as usual, but after the first frontier point the clock runs out."""
-    from mega_sat.oracles import SatOracles
+    from mega_sat.sat.oracles import SatOracles
 
     joint = SatOracles.joint
 
@@ -361,7 +365,7 @@ def test_interrupt_prints_the_partial_frontier(sig, code):
 
 def test_interrupt_keeps_the_points_found(monkeypatch):
     """SIGINT once the first point is proven: that point is printed, then exit 130."""
-    from mega_sat.oracles import SatOracles
+    from mega_sat.sat.oracles import SatOracles
 
     joint = SatOracles.joint
     found = []
@@ -387,7 +391,7 @@ SAT_CALL = """
 import sys
 sys.path.insert(0, {tests!r})
 from test_oracles import _add_pigeonhole, _chain
-from mega_sat.oracles import SatOracles
+from mega_sat.sat.oracles import SatOracles
 orc = SatOracles(_chain(3), solver="cadical195")
 act = _add_pigeonhole(orc, 12, 11)
 print("solving", flush=True)
@@ -475,7 +479,7 @@ def test_interrupt_ends_fast_downward(sig, code, tmp_path):
     fake = tmp_path / "fake-fast-downward.py"
     fake.write_text(FAKE_FD.format(marker=marker))
     patch = (
-        "import mega_sat.fast_downward as fd, pathlib; "
+        "import mega_sat.planners.fast_downward as fd, pathlib; "
         f"fd.fd_script = lambda: pathlib.Path({str(fake)!r}); "
     )
     proc = subprocess.Popen(

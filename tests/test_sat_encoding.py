@@ -7,13 +7,13 @@ import heapq
 import itertools
 
 import pytest
+from helpers.sat_families import check_bounded_answer, families, plan_cost, selections
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from pysat.solvers import Solver
-from sat_families import check_bounded_answer, families, plan_cost, selections
 
-from mega_sat.family import GroundFamily, GroundTask
-from mega_sat.sat_encoding import HUMAN, ROBOT, FamilyEncoding
+from mega_sat.ground.family import GroundFamily, GroundTask
+from mega_sat.sat.encoding import HUMAN, ROBOT, FamilyEncoding
 
 SETTINGS = settings(
     max_examples=120, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck)
@@ -94,7 +94,7 @@ def test_var_map_and_size():
     fam = GroundFamily(
         atoms=(("at", "p1"), ("at", "p2")), n_updates=1, actions=(), init=(), goal=()
     )
-    from mega_sat.family import GroundAction
+    from mega_sat.ground.family import GroundAction
 
     act = GroundAction(
         "move", ("p1", "p2"), None, ((0, None),), (), ((1, None),), ((0, (0, True)),), (((), 2),)
@@ -124,9 +124,9 @@ def test_guarded_mutexes_wait_for_a_longer_encoding_then_cover_every_layer():
     the earlier ones included.  rover-martian/p3 has some."""
     from pathlib import Path
 
-    from mega_sat.grounding import ground
-    from mega_sat.loading import load_task, resolve_task_dir
-    from mega_sat.sat_encoding import GUARDED_FROM_STEPS, _state_lit
+    from mega_sat.ground.grounding import ground
+    from mega_sat.pddl.loading import load_task, resolve_task_dir
+    from mega_sat.sat.encoding import GUARDED_FROM_STEPS, _state_lit
 
     root = Path(__file__).resolve().parents[1] / "domains" / "rover-martian" / "p3"
     fam = ground(load_task(**resolve_task_dir(str(root))))

@@ -5,14 +5,15 @@ from __future__ import annotations
 import heapq
 
 import pytest
+from helpers.randomtasks import models, selections, two_model_tasks
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from randomtasks import models, selections, two_model_tasks
 
-from mega_sat.family import GroundTask, StripsAction
-from mega_sat.grounding import ground, ground_model
-from mega_sat.search import HEURISTICS, RelaxedTask, astar
-from mega_sat.simulate import simulate_ground
+from mega_sat.analysis.relaxation import RelaxedTask
+from mega_sat.ground.family import GroundTask, StripsAction
+from mega_sat.ground.grounding import ground, ground_model
+from mega_sat.ground.simulate import simulate_ground
+from mega_sat.search.astar import HEURISTICS, astar
 
 
 def dijkstra(task: GroundTask) -> int | None:
@@ -211,7 +212,7 @@ def test_lmcut_admissible_on_a_shipped_family():
     import itertools
     from pathlib import Path
 
-    from mega_sat.loading import load_task, resolve_task_dir
+    from mega_sat.pddl.loading import load_task, resolve_task_dir
 
     root = Path(__file__).resolve().parent.parent / "domains" / "usar-fetch" / "delta" / "10" / "p1"
     task = load_task(**{k: str(v) for k, v in resolve_task_dir(root).items()})

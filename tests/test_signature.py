@@ -6,13 +6,13 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from helpers.randomtasks import two_model_tasks
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from randomtasks import two_model_tasks
 
-from mega_sat.features import PRE, SCHEMA
-from mega_sat.grounding import ground
-from mega_sat.loading import load_task, load_task_from_strings, resolve_task_dir
+from mega_sat.ground.grounding import ground
+from mega_sat.model.features import PRE, SCHEMA
+from mega_sat.pddl.loading import load_task, load_task_from_strings, resolve_task_dir
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -218,7 +218,7 @@ def test_vectorised_grounding_equals_per_action_on_random_tasks(data):
 def test_large_families_skip_the_swap_search(tmp_path):
     """The swap search is one pass over every action per candidate pair; above
     ``symmetry.MAX_ACTIONS`` it is skipped (symmetry breaking only prunes mirror plans)."""
-    from mega_sat.symmetry import MAX_ACTIONS, object_swaps
+    from mega_sat.sat.symmetry import MAX_ACTIONS, object_swaps
 
     task = _load_dir(_write_eight_parameter_task(tmp_path / "tpp8", per_type=4))
     fam = ground(task)
@@ -237,13 +237,13 @@ def test_running_out_of_memory_is_one_clear_error(monkeypatch):
 
     from click.testing import CliRunner
 
-    import mega_sat.grounding
-    from mega_sat.cli import main
+    import mega_sat.ground.grounding
+    from mega_sat.cli.commands import main
 
     def too_large(*args, **kwargs):
         raise MemoryError
 
-    monkeypatch.setattr(mega_sat.grounding, "ground", too_large)
+    monkeypatch.setattr(mega_sat.ground.grounding, "ground", too_large)
     for extra in ([], ["--json"]):
         r = CliRunner().invoke(main, ["frontier", "--task", "domains/usar-fetch/p1", *extra])
         assert r.exit_code == 2, r.output

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from mega_sat.grounding import ground_model
-from mega_sat.model import Model, Schema
-from mega_sat.simulate import plan_cost, simulate, simulate_ground
+from mega_sat.ground.grounding import ground_model
+from mega_sat.ground.simulate import plan_cost, simulate, simulate_ground
+from mega_sat.model.lifted import Model, Schema
 
 MOVE = Schema(
     "move",

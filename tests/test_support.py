@@ -1,14 +1,14 @@
-"""Soundness of the exclusion cores of unsolvable models (``mega_sat.support``)."""
+"""Soundness of the exclusion cores of unsolvable models (``mega_sat.engines.support``)."""
 
 from __future__ import annotations
 
 import time
 
+from helpers.sat_families import agreeing, dijkstra, families, selections
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
-from sat_families import agreeing, dijkstra, families, selections
 
-from mega_sat.support import unsolvable_core
+from mega_sat.engines.support import unsolvable_core
 
 SETTINGS = settings(
     max_examples=150, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck)

@@ -1,4 +1,4 @@
-"""unified-planning models in and out (mega_sat.up_models): models built in Python give the
+"""unified-planning models in and out (mega_sat.pddl.up_models): models built in Python give the
 same frontier as the same models read from PDDL, plans go back as valid ``SequentialPlan``
 objects, and other kinds of problem are refused by the library's own feature names."""
 
@@ -203,7 +203,7 @@ def test_human_problem_defaults_to_the_robot_problem():
 
 
 def test_up_plan_of_an_unknown_step_is_one_clear_error():
-    from mega_sat.up_models import to_up_plan
+    from mega_sat.pddl.up_models import to_up_plan
 
     with pytest.raises(MegaSatError, match=r"plan step '\(fly p1 p2\)' names no action"):
         to_up_plan([("fly", "p1", "p2")], _usar(False))

@@ -13,30 +13,30 @@ from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
+from helpers.bruteforce import brute_force_frontier, brute_force_mce
+from helpers.minitasks import usar_like
+from helpers.randomtasks import two_model_tasks
+from helpers.tradeoff_tasks import tradeoff_tasks
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from minitasks import usar_like
-from randomtasks import two_model_tasks
-from tradeoff_tasks import tradeoff_tasks
 
 from mega_sat.api import MegaSolver, load_task_dir
-from mega_sat.astar_engine import astar_frontier, astar_solve
-from mega_sat.bruteforce import brute_force_frontier, brute_force_mce
-from mega_sat.cli import main
+from mega_sat.cli.commands import main
+from mega_sat.engines.astar import astar_frontier, astar_solve
+from mega_sat.engines.mce import minimal_explanation
+from mega_sat.engines.sat_loop import sat_frontier
+from mega_sat.engines.verify import verify_pair
 from mega_sat.errors import UnsolvableError
-from mega_sat.grounding import ground
-from mega_sat.mce import minimal_explanation
-from mega_sat.node_planner import NodePlanner
-from mega_sat.oracles import SatOracles
-from mega_sat.results import choose
-from mega_sat.sat_engine import sat_frontier
-from mega_sat.update_costs import (
+from mega_sat.ground.grounding import ground
+from mega_sat.pddl.update_costs import (
     UpdateCostError,
     cost_vector,
     load_update_costs,
     parse_update_costs,
 )
-from mega_sat.verify import verify_pair
+from mega_sat.planners.node_planner import NodePlanner
+from mega_sat.results import choose
+from mega_sat.sat.oracles import SatOracles
 
 ROOT = Path(__file__).resolve().parent.parent
 USAR = ROOT / "domains" / "usar-fetch" / "p1"

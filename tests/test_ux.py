@@ -10,7 +10,7 @@ import pytest
 from click.testing import CliRunner
 
 from mega_sat import api
-from mega_sat.cli import main
+from mega_sat.cli.commands import main
 from mega_sat.errors import PDDLError, UsageError
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -80,7 +80,7 @@ def test_bench_with_nothing_to_run_is_one_error_line(tmp_path):
 
 
 def test_a_stop_before_the_first_point_words_its_bound_for_every_solution():
-    from mega_sat.progress import Progress
+    from mega_sat.engines.progress import Progress
 
     pr = Progress()
     pr.start("sat", ("u1", "u2"))
@@ -115,8 +115,8 @@ class _ExpiredAfterStart:
 
 
 def test_sat_engine_stopped_before_any_point_says_no_point():
-    from mega_sat.grounding import ground
-    from mega_sat.sat_engine import sat_frontier
+    from mega_sat.engines.sat_loop import sat_frontier
+    from mega_sat.ground.grounding import ground
 
     task = api.load_task_dir(USAR)
     fr = sat_frontier(task, ground(task), deadline=_ExpiredAfterStart())
@@ -134,7 +134,7 @@ def test_api_docs_name_every_exported_function():
 
 
 def test_api_docs_describe_resolve_task_dir_as_the_dict_it_returns():
-    from mega_sat.loading import resolve_task_dir
+    from mega_sat.pddl.loading import resolve_task_dir
 
     text = (ROOT / "docs" / "api.md").read_text()
     (para,) = [p for p in text.split("\n\n") if p.startswith("`load_task_dir` loads")]
@@ -164,7 +164,7 @@ def test_sweep_figure_tick_labels_do_not_overlap(tmp_path, monkeypatch):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from mega_sat.benchmark import ALPHA_GRID, plot_sweeps
+    from mega_sat.bench.harness import ALPHA_GRID, plot_sweeps
 
     figs = []
     monkeypatch.setattr(plt, "close", figs.append)
@@ -268,7 +268,7 @@ def test_frontier_plot_svg_shows_alpha_ranges_and_robot_optimum(tmp_path):
 
 
 def test_plot_labels_a_point_no_alpha_picks():
-    from mega_sat.plotting import range_label
+    from mega_sat.cli.plotting import range_label
     from mega_sat.results import alpha_ranges
 
     fr = _frontier([(0, 10), (1, 9), (3, 4)], 4)
@@ -305,7 +305,7 @@ def test_frontier_plot_without_matplotlib_is_one_line(tmp_path, monkeypatch):
 def test_plot_of_an_incomplete_frontier_says_so(tmp_path):
     import dataclasses
 
-    from mega_sat.plotting import frontier_figure
+    from mega_sat.cli.plotting import frontier_figure
 
     fr = api.frontier(api.load_task_dir(BLOCKS))
     cut = dataclasses.replace(fr, points=fr.points[:2], complete=False, exact=False)
@@ -316,7 +316,7 @@ def test_plot_of_an_incomplete_frontier_says_so(tmp_path):
 
 
 def test_plot_is_skipped_after_a_stop(tmp_path):
-    from mega_sat.cli import _plot, _Run
+    from mega_sat.cli.commands import _plot, _Run
     from mega_sat.deadline import TimeLimitReached
 
     run = _Run(as_json=False)

@@ -3,12 +3,12 @@
 from __future__ import annotations
 
 import pytest
+from helpers.randomtasks import models, plans
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from randomtasks import models, plans
 
-from mega_sat.simulate import simulate
-from mega_sat.val import val_available, val_validate
+from mega_sat.ground.simulate import simulate
+from mega_sat.planners.val import val_available, val_validate
 
 pytestmark = pytest.mark.skipif(not val_available(), reason="VAL not installed")
 
@@ -39,7 +39,7 @@ def test_verdicts():
 @settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(data=st.data())
 def test_val_agrees_with_simulate(data):
-    from mega_sat.pddl_writer import domain_to_pddl, problem_to_pddl
+    from mega_sat.pddl.writer import domain_to_pddl, problem_to_pddl
 
     model = data.draw(models(allow_zero_cost=True))
     # VAL ignores surplus arguments, so malformed steps are the simulator's business only

@@ -1,0 +1,76 @@
+"""h^2 reachability: which pairs of facts can ever hold together (Haslum & Geffner 2000).
+
+Relaxed reachability (h^1) ignores deletes, so it cannot see that a goal needs two facts that
+no state ever has at once (the robot in two places, a hand holding two things).  h^2 keeps
+deletes for pairs: a pair ``{p, q}`` becomes reachable when an action adds both, or adds ``p``
+while ``q`` survives it (not deleted, and reachable together with each precondition).  Every
+pair true in some reachable state is marked, so a goal pair left unmarked proves the task
+unsolvable.  Used on abstractions (:mod:`mega_sat.analysis.abstraction`: no negative preconditions, and
+a proof there holds for every model they over-approximate).
+"""
+
+from __future__ import annotations
+
+from mega_sat.ground.family import GroundTask
+
+
+def _mask(ids) -> int:
+    m = 0
+    for i in ids:
+        m |= 1 << i
+    return m
+
+
+def pair_masks(task: GroundTask) -> list[int]:
+    """``m[p]``: bitmask of the facts ``q`` with ``{p, q}`` h^2-reachable (bit ``p`` itself set
+    iff ``p`` is reachable).  ``task`` must have no negative preconditions."""
+    if any(a.negpre for a in task.actions):
+        raise ValueError("pair reachability needs a task without negative preconditions")
+    n = len(task.atoms)
+    init = _mask(task.init)
+    m = [init if (init >> p) & 1 else 0 for p in range(n)]
+    acts = [
+        (sorted(a.pre), _mask(a.pre), sorted(a.add), _mask(a.add), _mask(a.delete))
+        for a in task.actions
+    ]
+    changed = True
+    while changed:
+        changed = False
+        for pre, pre_m, add, add_m, del_m in acts:
+            ok = True
+            together = ~0
+            for r in pre:
+                mr = m[r]
+                if mr & pre_m != pre_m:
+                    ok = False
+                    break
+                together &= mr
+            if not ok:
+                continue
+            if not pre:
+                together = 0
+                for p in range(n):
+                    if (m[p] >> p) & 1:
+                        together |= 1 << p
+            # facts that can hold with every precondition and survive the action
+            survive = together & ~del_m & ~add_m
+            gain = survive | add_m
+            for p in add:
+                new = gain & ~m[p]
+                if not new:
+                    continue
+                changed = True
+                m[p] |= new
+                q_bits = new & ~(1 << p)
+                while q_bits:
+                    low = q_bits & -q_bits
+                    m[low.bit_length() - 1] |= 1 << p
+                    q_bits ^= low
+    return m
+
+
+def goal_pair_unreachable(task: GroundTask) -> bool:
+    """True when some goal fact or pair of goal facts is not h^2-reachable: no plan exists."""
+    m = pair_masks(task)
+    goal = _mask(task.goal)
+    return any(m[p] & goal != goal for p in task.goal)

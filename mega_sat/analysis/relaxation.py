@@ -1,0 +1,156 @@
+"""The delete relaxation of a ground task: h^max and LM-cut (Helmert & Domshlak 2009).
+
+States are ``int`` bitmasks over atom ids; :func:`bits` lists the atoms of one.  The built-in
+planner, the operator-counting bounds and the relaxed proofs of the oracles all evaluate the
+same :class:`RelaxedTask`.
+"""
+
+from __future__ import annotations
+
+import heapq
+
+from mega_sat.ground.family import GroundTask
+
+_INF = float("inf")
+
+
+def bits(s: int) -> list[int]:
+    out = []
+    while s:
+        low = s & -s
+        out.append(low.bit_length() - 1)
+        s ^= low
+    return out
+
+
+class RelaxedTask:
+    """The delete-relaxation of a ground task with the usual LM-cut normalisation: an
+    artificial atom ``true`` (precondition of actions without preconditions) and an
+    artificial goal action (precondition = goal, adds ``goal``, cost 0).
+
+    Add effects on atoms that are neither a precondition nor a goal are dropped: they cannot
+    change h^max of the goal or any LM-cut landmark, and skipping them makes every evaluation
+    cheaper (half the facts of a two-fact abstraction are such atoms)."""
+
+    def __init__(self, task: GroundTask):
+        n = len(task.atoms)
+        self.true_atom, self.goal_atom = n, n + 1
+        self.n_atoms = n + 2
+        needed = set(task.goal).union(*(a.pre for a in task.actions))
+        self.needed = [p in needed for p in range(n)] + [True, True]
+        pres: list[tuple[int, ...]] = []
+        adds: list[tuple[int, ...]] = []
+        costs: list[int] = []
+        for a in task.actions:
+            pres.append(tuple(sorted(a.pre)) or (self.true_atom,))
+            adds.append(tuple(sorted(q for q in a.add if q in needed)))
+            costs.append(a.cost)
+        pres.append(tuple(sorted(task.goal)) or (self.true_atom,))
+        adds.append((self.goal_atom,))
+        costs.append(0)
+        self.pres, self.adds, self.costs = pres, adds, costs
+        self.n_pre = [len(p) for p in pres]
+        self.pre_of: list[list[int]] = [[] for _ in range(self.n_atoms)]
+        self.achievers: list[list[int]] = [[] for _ in range(self.n_atoms)]
+        for j, (p, ad) in enumerate(zip(pres, adds, strict=True)):
+            for q in p:
+                self.pre_of[q].append(j)
+            for q in ad:
+                self.achievers[q].append(j)
+
+    def hmax(
+        self, state: list[int], costs: list[int], *, stop_at_goal: bool = False
+    ) -> tuple[list[float], list[int]]:
+        """h^max of every atom from ``state`` and the precondition choice function (the
+        precondition reached last, i.e. one with maximal h^max; -1 if unreachable).
+
+        ``stop_at_goal`` stops once the goal's value is final: enough for the value, but the
+        choice function is then partial, and LM-cut needs it for *every* reachable action (an
+        action left out of the justification graph would be missing from its cut, which would
+        then not be a landmark and the heuristic not admissible)."""
+        h: list[float] = [_INF] * self.n_atoms
+        done = [False] * self.n_atoms
+        left = self.n_pre[:]
+        pcf = [-1] * len(self.pres)
+        needed = self.needed
+        heap = [(0, p) for p in state if needed[p]]
+        heap.append((0, self.true_atom))
+        for _, p in heap:
+            h[p] = 0
+        heapq.heapify(heap)
+        pre_of, adds = self.pre_of, self.adds
+        goal = self.goal_atom
+        while heap:
+            d, p = heapq.heappop(heap)
+            if done[p]:
+                continue
+            done[p] = True
+            if p == goal and stop_at_goal:
+                break
+            for j in pre_of[p]:
+                left[j] -= 1
+                if left[j] == 0:
+                    pcf[j] = p
+                    c = d + costs[j]
+                    for q in adds[j]:
+                        if c < h[q]:
+                            h[q] = c
+                            heapq.heappush(heap, (c, q))
+        return h, pcf
+
+    def h_max(self, state: list[int]) -> float:
+        return self.hmax(state, self.costs, stop_at_goal=True)[0][self.goal_atom]
+
+    def lmcut(self, state: list[int], cuts: list[list[int]] | None = None) -> float:
+        """LM-cut: repeatedly find a cut between the initial atoms and the zero-cost goal zone
+        of the justification graph, add its minimum cost and reduce it to zero.
+
+        Each cut is a disjunctive action landmark (every plan from ``state`` uses one of its
+        actions); with ``cuts`` given they are appended to it, as lists of action indices
+        (the artificial goal action left out)."""
+        costs = self.costs[:]
+        total = 0
+        goal, n = self.goal_atom, self.n_atoms
+        pre_of, adds, achievers = self.pre_of, self.adds, self.achievers
+        while True:
+            h, pcf = self.hmax(state, costs)
+            if h[goal] == _INF:
+                return _INF
+            if h[goal] == 0:
+                return total
+            zone = [False] * n
+            zone[goal] = True
+            stack = [goal]
+            while stack:
+                q = stack.pop()
+                for j in achievers[q]:
+                    p = pcf[j]
+                    if p >= 0 and costs[j] == 0 and not zone[p]:
+                        zone[p] = True
+                        stack.append(p)
+            reached = [False] * n
+            stack = [self.true_atom, *state]
+            for p in stack:
+                reached[p] = True
+            cut: list[int] = []
+            while stack:
+                p = stack.pop()
+                for j in pre_of[p]:
+                    if pcf[j] != p:
+                        continue
+                    in_cut = False
+                    for q in adds[j]:
+                        if zone[q]:
+                            in_cut = True
+                        elif not reached[q]:
+                            reached[q] = True
+                            stack.append(q)
+                    if in_cut:
+                        cut.append(j)
+            m = min(costs[j] for j in cut)
+            assert m > 0, "LM-cut found a zero-cost cut"
+            if cuts is not None:
+                cuts.append([j for j in cut if j != len(self.pres) - 1])
+            total += m
+            for j in cut:
+                costs[j] -= m

@@ -1,0 +1,1 @@
+"""The benchmark harness, used by the CLI through the engine's public interfaces."""

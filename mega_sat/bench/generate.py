@@ -1,0 +1,211 @@
+"""Seeded human-model generator: a human model exactly ``k`` features away from the robot's.
+
+The paper's Table "times" measures MEGA at ``|Delta|`` = 2, 7 and 10.  We derive such human
+models from any robot model by random, seeded feature flips — removing a precondition, effect,
+initial or goal atom the robot has, or adding one it does not — and keep a draw only if both
+problems stay solvable.  Added lifted atoms are taken from the same domain's own usage
+(a predicate is only placed on parameters whose types match a use elsewhere), and added ground
+atoms from the robot's relaxed-reachable atoms, so the human models stay type-sane.
+"""
+
+from __future__ import annotations
+
+import random
+import time
+from dataclasses import dataclass
+
+from mega_sat.errors import UnsolvableError, UsageError
+from mega_sat.model.features import (
+    ADD,
+    DEL,
+    GOAL,
+    INIT,
+    NEGPRE,
+    PRE,
+    Feature,
+    Update,
+    apply_updates,
+)
+from mega_sat.model.lifted import Atom, Model, Schema
+
+# seconds a generator searches for a solvable human model before it gives up
+DEFAULT_TIME_BUDGET = 120.0
+
+LIFTED_KINDS = (PRE, NEGPRE, ADD, DEL)
+
+
+@dataclass(frozen=True)
+class Generated:
+    human: Model
+    updates: tuple[Update, ...]
+    attempts: int
+
+
+def _param_types(s: Schema, type_preds: frozenset[str]) -> dict[str, frozenset[str]]:
+    return {
+        p: frozenset(a[0] for a in s.pre if len(a) == 2 and a[1] == p and a[0] in type_preds)
+        for p in s.params
+    }
+
+
+def _candidate_updates(robot: Model, reachable: frozenset[Atom]) -> list[Update]:
+    """Every single-feature change the generator may draw (removals and additions)."""
+    tp = robot.type_predicates
+    cands: list[Update] = []
+    # removals of robot features (type atoms excluded: those are not beliefs about the robot)
+    for s in robot.schemas.values():
+        for kind, atoms in ((PRE, s.pre), (NEGPRE, s.negpre), (ADD, s.add), (DEL, s.delete)):
+            for a in sorted(atoms):
+                if a[0] not in tp:
+                    cands.append(Update(Feature(kind, s.name, a), True))
+    cands += [Update(Feature(INIT, "", a), True) for a in sorted(robot.init) if a[0] not in tp]
+    cands += [Update(Feature(GOAL, "", a), True) for a in sorted(robot.goal)]
+    # additions: lifted atoms shaped like the domain's own uses of each predicate
+    shapes: set[tuple[str, tuple[frozenset[str], ...]]] = set()
+    for s in robot.schemas.values():
+        pt = _param_types(s, tp)
+        for atoms in (s.pre, s.negpre, s.add, s.delete):
+            for a in atoms:
+                if a[0] not in tp and all(x.startswith("?") for x in a[1:]):
+                    shapes.add((a[0], tuple(pt.get(x, frozenset()) for x in a[1:])))
+    for s in sorted(robot.schemas.values(), key=lambda s: s.name):
+        pt = _param_types(s, tp)
+        for pred, types in sorted(shapes, key=lambda x: (x[0], [sorted(t) for t in x[1]])):
+            options = [[p for p in s.params if pt[p] == t] for t in types]
+            if any(not o for o in options):
+                continue
+            args = tuple(o[0] for o in options)
+            atom = (pred, *args)
+            for kind, have in ((PRE, s.pre), (NEGPRE, s.negpre), (ADD, s.add), (DEL, s.delete)):
+                if atom not in have:
+                    cands.append(Update(Feature(kind, s.name, atom), False))
+    extra = sorted(a for a in reachable if a[0] not in tp)
+    cands += [Update(Feature(INIT, "", a), False) for a in extra if a not in robot.init]
+    cands += [
+        Update(Feature(GOAL, "", a), False)
+        for a in extra
+        if a not in robot.goal and a[0] not in _static_preds(robot)
+    ]
+    return cands
+
+
+def _static_preds(m: Model) -> set[str]:
+    changed = {a[0] for s in m.schemas.values() for a in s.add | s.delete}
+    return set(m.predicates) - changed
+
+
+def generate_human(
+    robot: Model,
+    k: int,
+    seed: int,
+    *,
+    max_attempts: int = 200,
+    time_limit: float = 30.0,
+    time_budget: float = DEFAULT_TIME_BUDGET,
+) -> Generated:
+    """A human model with ``|Delta| == k`` against ``robot``, both problems solvable.
+
+    ``time_limit`` bounds each planner call, ``time_budget`` the whole search over draws (a
+    large ``k`` makes most draws unsolvable, and 200 draws at 30 s each would look like a
+    hang).
+
+    A candidate ``Update(f, True)`` above means "the robot has f and the human will not"
+    (a removal from the human's view); ``Update(f, False)`` "the human will believe f".
+    """
+    from mega_sat.ground.grounding import ground_model
+    from mega_sat.model.task import TwoModelTask
+    from mega_sat.search.astar import solve_optimal
+
+    if k < 0:
+        raise UsageError(f"--delta must be >= 0, got {k}")
+    rt = ground_model(robot)
+    r = solve_optimal(rt, time_limit=time_limit)
+    if r.status == "unsolvable":
+        raise UnsolvableError("the robot problem has no plan; nothing to generate from")
+    if r.status != "optimal":
+        raise UsageError(
+            f"no plan of the robot problem found within {time_limit:g}s; "
+            "cannot check that generated models stay solvable"
+        )
+    reachable = frozenset(rt.atoms)
+    cands = _candidate_updates(robot, reachable)
+    if len(cands) < k:
+        raise UsageError(
+            f"the robot model offers only {len(cands)} features to flip; --delta {k} is too large"
+        )
+    rng = random.Random(seed)
+    deadline = time.perf_counter() + time_budget
+    for attempt in range(1, max_attempts + 1):
+        left = deadline - time.perf_counter()
+        if left <= 0:
+            raise UsageError(
+                f"no solvable human model with |Delta| = {k} found in {attempt - 1} "
+                f"seeded draws within {time_budget:g}s (seed {seed})"
+            )
+        picks = rng.sample(cands, k)
+        # human = robot with each picked feature flipped; express as robot + flips
+        flips = [Update(u.feature, not u.robot_has) for u in picks]
+        human = apply_updates(robot, robot, flips)
+        task = TwoModelTask.from_models(robot, human)
+        if len(task.delta) != k:
+            continue
+        h = solve_optimal(ground_model(human), time_limit=min(time_limit, left))
+        if h.status == "timeout" and left < time_limit:
+            # cut short by the budget, not by its own limit: stop here rather than move on to
+            # the next draw, so that a found instance never depends on the machine's speed
+            raise UsageError(
+                f"no solvable human model with |Delta| = {k} found within {time_budget:g}s "
+                f"(draw {attempt} was still being checked; seed {seed})"
+            )
+        if h.status != "optimal":
+            continue
+        return Generated(human, task.delta, attempt)
+    raise UsageError(
+        f"no solvable human model with |Delta| = {k} found in {max_attempts} "
+        f"seeded draws (seed {seed})"
+    )
+
+
+def write_instance(
+    robot_domain: str,
+    robot_problem: str,
+    k: int,
+    seed: int,
+    out_dir,
+    *,
+    overwrite: bool = False,
+    time_budget: float = DEFAULT_TIME_BUDGET,
+) -> Generated:
+    """Generate and write a task folder: the robot files copied verbatim, the human files
+    written by mega-sat, so ``--task out_dir`` loads it."""
+    import shutil
+    from pathlib import Path
+
+    from mega_sat.pddl.reader import read_model
+    from mega_sat.pddl.writer import write_model
+
+    robot = read_model(robot_domain, robot_problem)
+    g = generate_human(robot, k, seed, time_budget=time_budget)
+    out = Path(out_dir)
+    targets = [out / n for n in ("robot-domain.pddl", "robot-problem.pddl")]
+    for t in targets:
+        if t.exists() and not overwrite:
+            raise UsageError("file exists (use --force to overwrite)", path=str(t))
+    out.mkdir(parents=True, exist_ok=True)
+    write_model(
+        g.human,
+        out,
+        domain_file="human-domain.pddl",
+        problem_file="human-problem.pddl",
+        overwrite=overwrite,
+    )
+    shutil.copyfile(robot_domain, targets[0])
+    shutil.copyfile(robot_problem, targets[1])
+    return g
+
+
+def instance_seed(base_seed: int, domain: str, problem: str, k: int) -> int:
+    """A stable per-instance seed, so the whole suite is reproducible from one number."""
+    import zlib
+
+    return base_seed * 1_000_003 + zlib.crc32(f"{domain}/{problem}/{k}".encode())

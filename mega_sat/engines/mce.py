@@ -1,0 +1,132 @@
+"""MCE: the smallest explanation that makes one given plan optimal in the human's model.
+
+This is the model-reconciliation problem MEGA extends (the paper's reference [explain]).  The
+same hitting-set machinery as the ``sat`` engine, with a cheaper check per candidate: the plan
+is fixed, so a candidate ``E`` only needs a simulation of the plan in ``human + E`` and one OPT
+call.  A failed candidate teaches a clause: if the plan does not run in ``human + E``,
+``NOT(E restricted to support(plan))`` (every selection agreeing there runs it the same way);
+if it runs but costs more than ``pi*``, ``NOT(E restricted to costs(plan) ∪ support(pi*))``
+(the plan keeps its cost, ``pi*`` still runs no dearer, so the plan stays non-optimal).
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Sequence
+
+from mega_sat.deadline import Deadline
+from mega_sat.engines.hitting_set import make_hitting_set
+from mega_sat.engines.progress import Progress
+from mega_sat.engines.support import exclusion_clause, support, tight_support
+from mega_sat.errors import UnsolvableError, UsageError
+from mega_sat.ground.family import GroundFamily
+from mega_sat.ground.simulate import simulate, simulate_ground
+from mega_sat.model.lifted import PlanStep
+from mega_sat.model.task import TwoModelTask
+from mega_sat.pddl.update_costs import explanation_cost
+from mega_sat.planners.node_planner import NodePlanner
+from mega_sat.results import Explanation
+
+
+def minimal_explanation(
+    task: TwoModelTask,
+    family: GroundFamily,
+    plan: Sequence[PlanStep] | None = None,
+    *,
+    planner: str = "builtin",
+    hitting_set: str = "rc2",
+    oracles=None,
+    timeout: float | None = None,
+    deadline: Deadline | None = None,
+    progress: Progress | None = None,
+    update_costs: tuple[int, ...] | None = None,
+) -> Explanation:
+    """Smallest ``E`` making ``plan`` (default: a robot-optimal plan) optimal in ``human + E``
+    (with ``update_costs``: the cheapest by the sum of its updates' costs).
+
+    Stops at ``deadline`` (or ``timeout`` seconds from now) with
+    :class:`~mega_sat.deadline.TimeLimitReached`: a candidate that is not the smallest proves
+    nothing, so there is no partial answer.  ``progress`` shows each candidate as it is
+    checked (for a live display)."""
+    t0 = time.perf_counter()
+    progress = progress if progress is not None else Progress()
+    progress.start("mce", tuple(u.name for u in task.delta))
+    deadline = deadline if deadline is not None else Deadline.after(timeout)
+    np_ = NodePlanner(task, family, planner, oracles=oracles, deadline=deadline)
+    notes: list[str] = []
+    exact = True
+    robot_src = task.sources.get("robot_problem", "robot problem")
+    if plan is None:
+        r = np_.optimal(family.robot_selection)
+        if r.status != "optimal":
+            raise UnsolvableError(
+                "the robot problem has no plan"
+                if r.status == "unsolvable"
+                else f"no plan found for the robot problem ({r.reason})",
+                path=robot_src,
+            )
+        plan = r.plan
+        exact &= r.exact
+    plan = tuple(tuple(s) for s in plan)
+    sim_r = simulate(task.robot, plan)
+    if not sim_r.valid:
+        raise UsageError(f"the plan is not executable in the robot model: {sim_r.reason}")
+    hs = make_hitting_set(hitting_set, len(task.delta), deadline=deadline, costs=update_costs)
+    calls = {"candidates": 0, "opt_calls": 0, "learned": 0}
+    try:
+        while True:
+            deadline.check()
+            sel = hs.minimum()
+            if sel is None:
+                raise UsageError(
+                    "no explanation makes this plan optimal in the human's model "
+                    "(it is not optimal in the robot model either)"
+                )
+            calls["candidates"] += 1
+            progress.step(len(sel))
+            sim = simulate_ground(family.specialize(sel), plan)
+            if not sim.valid:
+                hs.add(exclusion_clause(sel, support(family, plan)))
+                calls["learned"] += 1
+                continue
+            opt = np_.optimal(sel)
+            calls["opt_calls"] += 1
+            if opt.status != "optimal":
+                # the plan itself runs, so the model has a plan: this is an undecided call
+                exact = False
+                notes.append(f"optimal cost of a candidate model not found: {opt.reason}")
+                hs.add(exclusion_clause(sel, range(len(task.delta))))
+                continue
+            exact &= opt.exact
+            if sim.cost <= opt.cost:
+                return Explanation(
+                    plan=plan,
+                    explanation=tuple(task.names(sel)),
+                    selection=sel,
+                    robot_cost=sim_r.cost,
+                    human_cost=sim.cost,
+                    exact=exact,
+                    notes=tuple(dict.fromkeys(notes)),
+                    time_s=time.perf_counter() - t0,
+                    weighted_cost=None
+                    if update_costs is None
+                    else explanation_cost(sel, update_costs),
+                    stats={
+                        **calls,
+                        "planner": planner,
+                        "hitting_set": hitting_set,
+                        "hitting_set_calls": hs.calls,
+                    },
+                )
+            # plan costs the same, pi* still runs at cost <= c*: the plan stays non-optimal
+            cost_guards = {
+                i
+                for s in plan
+                for guards, _ in family.actions[family.action_index[s]].cost
+                for i, _ in guards
+            }
+            on = cost_guards | {i for i, _ in tight_support(family, sel, opt.plan)}
+            hs.add(exclusion_clause(sel, on))
+            calls["learned"] += 1
+    finally:
+        hs.close()

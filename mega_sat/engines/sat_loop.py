@@ -1,0 +1,385 @@
+"""The ``sat`` engine: the whole MEGA frontier by a hitting-set loop over SAT oracles.
+
+Loop (encodings/hitting-set.md), from the explicable end toward the robot-optimal end::
+
+    K = inf; learned = []
+    E = cheapest selection satisfying learned          (hitting set: RC2 or CBC)
+    c*, pi* = OPT(E)                                    (optimal human cost of human + E)
+    JOINT(E, K, c*) -> a plan pi: new frontier point; stop if robot-optimal; K = cost(pi) - 1
+                    -> a core:    learned += NOT(E restricted to core ∪ support(pi*))
+
+``support(pi*)`` is the tight support of :func:`mega_sat.engines.support.tight_support`: only the
+updates whose flip could make ``pi*`` fail or cost more.
+
+Each success is the smallest cost(E) (``|E|``, or the sum of the update costs when they are
+given) that admits a solution with robot cost <= K, because learned clauses only ever remove
+selections that provably have no such solution (argument in ``encodings/hitting-set.md``);
+the clauses stay valid as K decreases, so they are kept.
+"""
+
+from __future__ import annotations
+
+import time
+
+from mega_sat.deadline import Deadline, TimeLimitReached
+from mega_sat.engines.hitting_set import make_hitting_set
+from mega_sat.engines.progress import Progress, lower_bound_note
+from mega_sat.engines.support import exclusion_clause, tight_support, unsolvable_core
+from mega_sat.ground.family import GroundFamily
+from mega_sat.model.task import TwoModelTask
+from mega_sat.pddl.update_costs import explanation_cost
+from mega_sat.planners.tiered_opt import TieredOpt
+from mega_sat.results import Frontier, FrontierPoint, pareto_filter
+from mega_sat.search.joint import JointSearcher, search_joint
+
+
+def default_planner(engine: str, family: GroundFamily) -> str:
+    """``builtin`` for ``astar`` (the paper's per-node planner) and for tasks with zero-cost
+    actions; else ``sat``.  The SAT OPT oracle is the faster one where models get hard:
+    ``mega-sat frontier`` on rover-martian Δ=7 p3 takes 1.24 s with SAT OPT and JOINT against
+    15.7 s with the built-in planner and the portfolio, blocksworld Δ=10 p3 1.4 s against 27 s
+    (docs/benchmarks.md, "Engine defaults")."""
+    if engine != "sat" or family.min_cost <= 0:
+        return "builtin"
+    return "sat"
+
+
+def default_joint(family: GroundFamily) -> str:
+    """``sat``, or ``portfolio`` (SAT within a conflict budget, then the explicit search) for
+    tasks with zero-cost actions, where bounded horizons prove nothing."""
+    return "portfolio" if family.min_cost <= 0 else "sat"
+
+
+def sat_frontier(
+    task: TwoModelTask,
+    family: GroundFamily,
+    *,
+    oracles=None,
+    planner: str | None = None,
+    hitting_set: str = "rc2",
+    solver: str = "cadical195",
+    timeout: float | None = None,
+    joint: str | None = None,
+    joint_conflict_budget: int | None = None,
+    core_search_factor: float = 3.0,
+    deadline: Deadline | None = None,
+    progress: Progress | None = None,
+    update_costs: tuple[int, ...] | None = None,
+) -> Frontier:
+    """Compute the Pareto frontier of MEGA solutions with the hitting-set loop.
+
+    ``planner`` answers OPT (the optimal cost of a candidate model): ``builtin`` (explicit
+    A* with LM-cut, exact by admissibility; falls back to the SAT OPT oracle if it gives up),
+    ``sat`` (the SAT OPT oracle, exact by the horizon argument) or ``fd``; ``None``:
+    :func:`default_planner`.
+
+    ``joint`` answers JOINT, the check that gives cores: ``sat`` (the SAT oracle alone),
+    ``search`` (the explicit product search of :mod:`mega_sat.search.joint`, whose cores are
+    proven on abstractions) or ``portfolio`` (the SAT oracle with ``joint_conflict_budget``
+    conflicts per call, adaptive when None (see :class:`_Budget`), then the search if it is
+    undecided).  All three are exact.  ``None``: :func:`default_joint`.
+
+    OPT goes through :class:`mega_sat.planners.tiered_opt.TieredOpt` (cheap proofs first, ``planner``
+    last).  ``core_search_factor``: unsolvable candidate models are generalised by searches on
+    abstractions for up to this many times the time OPT took to prove them unsolvable.
+
+    ``deadline`` (or ``timeout`` seconds from now) makes the loop anytime: at the deadline it
+    returns the points proven so far, marked incomplete, with a lower bound on cost(E) of the
+    next point; before the robot optimum is known it raises :class:`TimeLimitReached` (nothing
+    to report).  ``progress`` receives every proven fact as it is proven, for a caller whose run
+    is stopped from outside (an interrupt, the CLI's backstop timer).
+
+    ``update_costs``: a positive integer cost per update of ``task.delta``; the explanation
+    cost is then their sum instead of |E| (the hitting set minimises it), and the frontier is
+    over (cost(E), robot cost).
+    """
+    planner = default_planner("sat", family) if planner is None else planner
+    joint = default_joint(family) if joint is None else joint
+    if joint not in JOINT_METHODS:
+        from mega_sat.errors import UsageError
+
+        raise UsageError(f"unknown JOINT method {joint!r} (choose from {', '.join(JOINT_METHODS)})")
+    from mega_sat.planners.node_planner import NodePlanner
+    from mega_sat.sat.oracles import OracleInterrupted, SatOracles
+
+    t0 = time.perf_counter()
+    if deadline is None:
+        deadline = Deadline.after(timeout)
+    stop_at = deadline.at  # a time.perf_counter() value, or None
+    progress = progress if progress is not None else Progress()
+    progress.start("sat", tuple(u.name for u in task.delta), update_costs)
+    orc = oracles if oracles is not None else SatOracles(family, solver=solver)
+    earlier_deadline = getattr(orc, "deadline", None)
+    if stop_at is not None and hasattr(orc, "set_deadline"):
+        orc.set_deadline(stop_at)  # interrupts a SAT call still running at the deadline
+    # the explicit planners get what is left of the time limit (the SAT oracle has the deadline
+    # itself); a planner call cut by the deadline raises TimeLimitReached
+    opt_planner = NodePlanner(task, family, planner, oracles=orc, deadline=deadline)
+    tiered = TieredOpt(family, opt_planner)
+    notes = progress.notes
+    exact = True
+
+    def opt_of(sel):
+        r = tiered.optimal(sel)
+        if r.status == "unknown" and planner != "sat":
+            r = NodePlanner(task, family, "sat", oracles=orc, deadline=deadline).optimal(sel)
+        return r
+
+    try:
+        robot = opt_of(family.robot_selection)
+    except (OracleInterrupted, TimeLimitReached) as e:
+        if hasattr(orc, "set_deadline"):
+            orc.set_deadline(earlier_deadline)
+        if isinstance(e, TimeLimitReached) or not deadline.expired():
+            raise
+        raise TimeLimitReached(deadline.seconds) from None  # nothing proven to report
+    _require_robot_plan(task, robot)
+    if not robot.exact:
+        exact = False
+        notes.append(f"robot optimum not proven: {robot.reason}")
+    c_robot = robot.cost
+    robot_lb = c_robot if robot.exact else None  # a proven lower bound on any robot plan
+    progress.robot_optimal_cost = c_robot
+
+    hs = make_hitting_set(hitting_set, len(task.delta), deadline=deadline, costs=update_costs)
+
+    def cost_of(sel) -> int:
+        return explanation_cost(sel, update_costs)
+
+    weighted = update_costs is not None
+    opt_cache: dict[frozenset[int], object] = {}
+    points: list[FrontierPoint] = []
+    bound: int | None = None  # K: robot cost must be <= K (None: unbounded)
+    complete = False
+    lower_bound = None
+    stats = {
+        "iterations": 0,
+        "opt_calls": 0,
+        "joint_calls": 0,
+        "learned": 0,
+        "learned_literals": 0,
+        "unsolvable_models": 0,
+        "joint_searches": 0,
+    }
+    budget = _Budget(joint_conflict_budget)
+    _searcher = []
+
+    def searcher() -> JointSearcher:
+        if not _searcher:
+            _searcher.append(JointSearcher(family.specialize(family.robot_selection)))
+        return _searcher[0]
+
+    def time_out():
+        nonlocal lower_bound, complete
+        try:
+            nxt = hs.minimum()
+        except TimeLimitReached as e:  # CBC (--hitting-set ilp) has no time left either
+            if e.forced:
+                raise
+            lower_bound = progress.lower_bound or 0
+        else:
+            lower_bound = None if nxt is None else cost_of(nxt)
+            complete = nxt is None
+        if not complete:
+            notes.append(
+                f"time limit {deadline.seconds}s reached: frontier incomplete; "
+                + lower_bound_note(lower_bound, bool(points), weighted)
+            )
+
+    progress.stats = stats
+    try:
+        while True:
+            if deadline.expired():
+                time_out()
+                break
+            try:
+                sel = hs.minimum()
+            except TimeLimitReached as e:
+                if e.forced:
+                    raise
+                time_out()
+                break
+            if sel is None:
+                complete = True
+                break
+            # every selection cheaper than sel is excluded by clauses that hold for any
+            # robot-cost bound <= K, so a solution cheaper than the last point costs cost(sel)
+            progress.lower_bound = cost_of(sel)
+            progress.step(len(sel))
+            stats["iterations"] += 1
+            opt = opt_cache.get(sel)
+            if opt is None:
+                try:
+                    opt = opt_of(sel)
+                except (OracleInterrupted, TimeLimitReached) as e:
+                    if getattr(e, "forced", False):
+                        raise  # stopped between any two bytecodes: the caller reports progress
+                    time_out()
+                    break
+                opt_cache[sel] = opt
+                stats["opt_calls"] += 1
+            if opt.status != "optimal":
+                # no plan (or none found): no solution can use this model; exclude it
+                on = None
+                if opt.status == "unsolvable":
+                    stats["unsolvable_models"] += 1
+                    # the core's searches only shrink the exclusion, so they stop at the
+                    # deadline (barman-bar Δ=20 p2 ran 7 s past a 40 s --timeout here)
+                    on = unsolvable_core(
+                        family,
+                        sel,
+                        search_seconds=max(0.05, core_search_factor * opt.time_s),
+                        stop_at=stop_at,
+                    )
+                else:
+                    exact = False
+                    notes.append(f"OPT undecided for a model with |E|={len(sel)}: {opt.reason}")
+                _learn(
+                    hs,
+                    exclusion_clause(sel, on if on is not None else range(len(task.delta))),
+                    stats,
+                )
+                continue
+            if not opt.exact:
+                exact = False
+                notes.append(f"OPT not proven optimal (|E|={len(sel)}): {opt.reason}")
+            try:
+                # pi* is a witness if the robot can run it within K; c_robot and (when costs
+                # allow) c* are proven lower bounds that spare the final UNSAT call
+                t_sat = time.perf_counter()
+                res = (
+                    _UNDECIDED
+                    if joint == "search"
+                    else orc.joint(
+                        sel,
+                        bound,
+                        opt.cost,
+                        hints=(opt.plan,),
+                        robot_lower_bound=robot_lb,
+                        human_lower_bound=opt.cost if opt.exact else None,
+                        conflict_budget=budget.conflicts if joint == "portfolio" else None,
+                    )
+                )
+                t_sat = time.perf_counter() - t_sat
+                ts = tight_support(family, sel, opt.plan)
+                if res.status == "unknown":
+                    stats["joint_searches"] += 1
+                    t_search = time.perf_counter()
+                    res = search_joint(
+                        searcher(),
+                        family,
+                        sel,
+                        bound,
+                        opt.cost,
+                        keep=frozenset(i for i, _ in ts),
+                        deadline=stop_at,
+                    )
+                    if res is None:
+                        raise OracleInterrupted
+                    budget.update(t_sat, time.perf_counter() - t_search)
+            except (OracleInterrupted, TimeLimitReached) as e:
+                if getattr(e, "forced", False):
+                    raise
+                time_out()
+                break
+            stats["joint_calls"] += 1
+            if not res.exact:
+                exact = False
+                notes.append(f"JOINT not exact (|E|={len(sel)}): {res.reason}")
+            if res.plan is not None:
+                points.append(
+                    FrontierPoint(
+                        tuple(task.names(sel)),
+                        sel,
+                        tuple(res.plan),
+                        res.robot_cost,
+                        res.human_cost,
+                        cost_of(sel) if weighted else None,
+                    )
+                )
+                progress.points.append(points[-1])
+                if res.robot_cost <= c_robot:
+                    complete = True
+                    break
+                bound = res.robot_cost - 1
+                continue
+            on = {i for i, _ in res.core} | {i for i, _ in ts}
+            _learn(hs, exclusion_clause(sel, on), stats)
+    finally:
+        hs.close()
+        if stop_at is not None and hasattr(orc, "set_deadline"):
+            orc.set_deadline(earlier_deadline)
+    pts = pareto_filter(points)
+    return Frontier(
+        engine="sat",
+        robot_optimal_cost=c_robot,
+        model_difference=tuple(u.name for u in task.delta),
+        points=pts,
+        exact=exact and complete,
+        complete=complete,
+        notes=tuple(dict.fromkeys(notes)),
+        next_size_lower_bound=None if weighted else lower_bound,
+        time_s=time.perf_counter() - t0,
+        stats={
+            **stats,
+            "opt_planner": planner,
+            "opt_time_s": round(tiered.time_s, 6),
+            "opt_planner_time_s": round(opt_planner.time_s, 6),
+            **tiered.stats,
+            "hitting_set": hitting_set,
+            "joint": joint,
+            "joint_conflict_budget_final": budget.conflicts,
+            "hitting_set_calls": hs.calls,
+            **getattr(orc, "stats", {}),
+        },
+        update_costs=update_costs,
+        next_cost_lower_bound=lower_bound,
+    )
+
+
+JOINT_METHODS = ("portfolio", "sat", "search")
+
+
+class _Budget:
+    """The portfolio's SAT conflict budget per JOINT call.
+
+    Fixed when given; otherwise it starts at 5,000 conflicts and adapts to the task: after a
+    call where SAT ran out and the explicit search answered, the budget halves when the search
+    took less time than the wasted SAT attempt and doubles otherwise (within 1,000-160,000).
+    Either way every answer is exact; only which oracle gives it changes.
+    """
+
+    def __init__(self, fixed: int | None):
+        self.adaptive = fixed is None
+        self.conflicts = 5_000 if fixed is None else fixed
+
+    def update(self, sat_s: float, search_s: float) -> None:
+        if not self.adaptive:
+            return
+        if search_s < sat_s:
+            self.conflicts = max(1_000, self.conflicts // 2)
+        else:
+            self.conflicts = min(160_000, self.conflicts * 2)
+
+
+class _Undecided:
+    status = "unknown"
+
+
+_UNDECIDED = _Undecided()
+
+
+def _learn(hs, clause, stats) -> None:
+    hs.add(clause)
+    stats["learned"] += 1
+    stats["learned_literals"] += len(clause)
+
+
+def _require_robot_plan(task: TwoModelTask, robot) -> None:
+    from mega_sat.errors import UnsolvableError
+
+    src = task.sources.get("robot_problem", "robot problem")
+    if robot.status == "unsolvable":
+        raise UnsolvableError("the robot problem has no plan", path=src)
+    if robot.status != "optimal":
+        raise UnsolvableError(f"no plan found for the robot problem ({robot.reason})", path=src)

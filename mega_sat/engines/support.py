@@ -1,0 +1,169 @@
+"""Which updates a plan's behaviour depends on, and the clauses learned from failed candidates.
+
+``support(plan)`` is the set of updates whose flip could change whether ``plan`` executes in a
+model of the family, or what it costs there.  Any selection that agrees with ``E`` on
+``support(plan)`` runs ``plan`` exactly as ``human + E`` does (same relevant atoms at every
+step, same preconditions, same cost) — see ``encodings/hitting-set.md`` for the argument.  That
+is what makes a learned clause ``NOT(E restricted to core ∪ support)`` generalise beyond ``E``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+
+from mega_sat.ground.family import GroundFamily, GuardLit
+from mega_sat.model.lifted import PlanStep
+
+
+def support(family: GroundFamily, plan: Sequence[PlanStep]) -> frozenset[int]:
+    """Updates that can change ``plan``'s executability, goal achievement or cost."""
+    acts = [family.actions[family.action_index[s]] for s in plan]
+    relevant = {p for a in acts for p, _ in a.pre + a.negpre}
+    relevant.update(p for p, _ in family.goal)
+    out: set[int] = set()
+    for a in acts:
+        if a.exists:
+            out.add(a.exists[0])
+        out.update(g[0] for _, g in a.pre + a.negpre if g)
+        out.update(g[0] for p, g in a.add + a.delete if g and p in relevant)
+        out.update(i for guards, _ in a.cost for i, _ in guards)
+    out.update(g[0] for p, g in family.init if g and p in relevant)
+    out.update(g[0] for _, g in family.goal if g)
+    return frozenset(out)
+
+
+def exclusion_clause(selection: frozenset[int], on: Iterable[int]) -> tuple[GuardLit, ...]:
+    """The clause ``NOT(selection restricted to on)``: some update in ``on`` must differ."""
+    return tuple(sorted((i, i not in selection) for i in set(on)))
+
+
+def _relaxed_goal_reachable(
+    family: GroundFamily, selection: frozenset[int], fixed: frozenset[int]
+) -> bool:
+    """Delete-relaxed reachability of the goal in the most permissive model that agrees with
+    ``selection`` on ``fixed``: an unfixed guard counts as present for initial atoms, add
+    effects and schema existence, and as absent for preconditions and goals."""
+
+    def present(g, helps: bool) -> bool:
+        if g is None:
+            return True
+        if g[0] not in fixed:
+            return helps
+        return (g[0] in selection) == g[1]
+
+    reached = {p for p, g in family.init if present(g, True)}
+    acts = [a for a in family.actions if present(a.exists, True)]
+    changed = True
+    while changed:
+        changed = False
+        rest = []
+        for a in acts:
+            if all(p in reached for p, g in a.pre if present(g, False)):
+                for p, g in a.add:
+                    if p not in reached and present(g, True):
+                        reached.add(p)
+                        changed = True
+            else:
+                rest.append(a)
+        acts = rest
+    return all(p in reached for p, g in family.goal if present(g, False))
+
+
+def unsolvable_core(
+    family: GroundFamily,
+    selection: frozenset[int],
+    *,
+    search_seconds: float = 0.0,
+    node_limit: int = 2_000,
+    stop_at: float | None = None,
+) -> frozenset[int] | None:
+    """A set ``S`` of updates such that every selection agreeing with ``selection`` on ``S`` has
+    no plan, for an unsolvable ``human + selection``; ``None`` when nothing smaller than "all
+    updates" can be shown.
+
+    Deletion from all updates: an update is dropped when the model stays unsolvable with it
+    free.  Three proofs are tried: relaxed reachability of the most permissive model and h^2
+    pair reachability of the abstraction with the update free (both cheap), then an exhaustive
+    search of the abstraction with the update free
+    (:func:`mega_sat.analysis.abstraction.abstract_task`), of at most ``node_limit`` expansions each and
+    ``search_seconds`` in all; a search cut short proves nothing and keeps the update.  After
+    ``stop_at`` (a ``time.perf_counter()`` value) no search runs and no update is tried any
+    more: the updates not yet dropped stay in ``S``, which is still sound, only larger.
+    """
+    import time
+
+    from mega_sat.analysis.abstraction import abstract_task
+    from mega_sat.analysis.pair_reachability import goal_pair_unreachable
+    from mega_sat.search.astar import astar
+
+    everything = frozenset(range(family.n_updates))
+    deadline = time.perf_counter() + search_seconds
+    if stop_at is not None:
+        deadline = min(deadline, stop_at)
+
+    def unsolvable(fixed: frozenset[int]) -> bool:
+        if not _relaxed_goal_reachable(family, selection, fixed):
+            return True
+        abstraction = abstract_task(family, selection, fixed)
+        if goal_pair_unreachable(abstraction):
+            return True
+        left = deadline - time.perf_counter()
+        if left <= 0:
+            return False
+        r = astar(
+            abstraction,
+            heuristic="blind",
+            time_limit=left,
+            node_limit=node_limit,
+        )
+        return r.status == "unsolvable"
+
+    fixed = everything
+    for i in sorted(everything):
+        if stop_at is not None and time.perf_counter() >= stop_at:
+            break
+        trial = fixed - {i}
+        if unsolvable(trial):
+            fixed = trial
+    return None if fixed == everything else fixed
+
+
+def tight_support(
+    family: GroundFamily, selection: frozenset[int], plan: Sequence[PlanStep]
+) -> tuple[GuardLit, ...]:
+    """Literals that keep ``plan`` executable at no higher cost in every selection satisfying
+    them, where ``plan`` runs in ``human + selection``.
+
+    Tighter than :func:`support` because a precondition (or goal) whose atom already holds at
+    that step of the plan's trajectory is satisfied whether or not the model has it: only
+    conditions that are absent *and* would fail must stay absent.  The trajectory of every
+    atom a condition mentions is kept identical by fixing the guards of its initial-state and
+    effect entries; schema existence and cost cases are fixed as well.  (Argument in
+    ``encodings/hitting-set.md``.)
+    """
+    from mega_sat.ground.family import holds
+
+    acts = [family.actions[family.action_index[s]] for s in plan]
+    relevant = {p for a in acts for p, _ in a.pre + a.negpre}
+    relevant.update(p for p, _ in family.goal)
+    fixed: set[int] = set()
+    state = {p for p, g in family.init if holds(g, selection)}
+    fixed.update(g[0] for p, g in family.init if g and p in relevant)
+    for a in acts:
+        if a.exists:
+            fixed.add(a.exists[0])
+        for p, g in a.pre:
+            if g and p not in state:
+                fixed.add(g[0])  # absent now (else the plan would fail): must stay absent
+        for p, g in a.negpre:
+            if g and p in state:
+                fixed.add(g[0])
+        fixed.update(i for guards, _ in a.cost for i, _ in guards)
+        fixed.update(g[0] for p, g in a.add + a.delete if g and p in relevant)
+        dels = {p for p, g in a.delete if holds(g, selection)}
+        adds = {p for p, g in a.add if holds(g, selection)}
+        state = (state - dels) | adds
+    for p, g in family.goal:
+        if g and p not in state:
+            fixed.add(g[0])
+    return tuple(sorted((i, i in selection) for i in fixed))

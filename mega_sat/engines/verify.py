@@ -1,0 +1,234 @@
+"""Independent checks of an answer ``(E, pi)``: the certificate a user can trust.
+
+A pair passes when (1) ``pi`` runs in the robot model and reaches its goal, (2) ``pi`` runs in
+``human + E`` and reaches its goal, and (3) its cost there equals the optimum of ``human + E``
+computed by a *different* planner than the one that produced the answer.  Plans are simulated
+on the lifted models (not the ground family the engines use), and, when VAL is installed, also
+validated by VAL on the PDDL files mega-sat writes.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+from mega_sat.deadline import Deadline
+from mega_sat.ground.family import GroundFamily
+from mega_sat.ground.simulate import simulate
+from mega_sat.model.lifted import PlanStep
+from mega_sat.model.task import TwoModelTask
+
+
+@dataclass(frozen=True)
+class Check:
+    name: str
+    ok: bool
+    detail: str
+
+
+@dataclass(frozen=True)
+class VerifyReport:
+    """All checks of one pair; ``ok`` only if every check passed.  ``explanation_cost``: the
+    explanation's cost(E) under the update costs, when they are in use (``size``: its |E|).
+    ``skipped`` names checks that were not run (and why): neither a pass nor a failure."""
+
+    checks: tuple[Check, ...]
+    explanation_cost: int | None = None
+    size: int | None = None
+    skipped: tuple[str, ...] = ()
+
+    @property
+    def ok(self) -> bool:
+        return all(c.ok for c in self.checks)
+
+    def lines(self) -> list[str]:
+        out = [f"{'ok  ' if c.ok else 'FAIL'} {c.name}: {c.detail}" for c in self.checks]
+        if self.explanation_cost is not None:
+            out.append(
+                f"explanation cost under the update costs: cost(E) = {self.explanation_cost}, "
+                f"|E| = {self.size}"
+            )
+        return out + [f"skip {s}" for s in self.skipped]
+
+    def to_dict(self) -> dict:
+        d: dict = {
+            "ok": self.ok,
+            "checks": [{"name": c.name, "ok": c.ok, "detail": c.detail} for c in self.checks],
+        }
+        if self.explanation_cost is not None:
+            d["explanation_cost"] = self.explanation_cost
+            d["size"] = self.size
+        if self.skipped:
+            d["skipped"] = list(self.skipped)
+        return d
+
+
+SUPERSET_CHECK_LIMIT = 64
+"""At most this many strict supersets of an MME are re-checked, one optimal planner call each."""
+
+SUPERSETS = "optimal in every human + E' with E < E' <= Delta"
+
+
+def verify_supersets(
+    task: TwoModelTask,
+    family: GroundFamily,
+    selection: frozenset[int],
+    plan: Sequence[PlanStep],
+    *,
+    checker: str,
+    oracles=None,
+    deadline: Deadline | None = None,
+    limit: int = SUPERSET_CHECK_LIMIT,
+) -> Check | str:
+    """The check that makes an MME monotonic: ``plan`` runs in ``human + E'`` (lifted
+    simulation) at the optimum of ``human + E'`` (by ``checker``) for every strict superset
+    ``E'`` of ``selection``; with more than ``limit`` supersets, the reason it is skipped."""
+    from mega_sat.planners.node_planner import NodePlanner
+
+    rest = sorted(set(range(len(task.delta))) - set(selection))
+    count = (1 << len(rest)) - 1
+    if count > limit:
+        return f"{SUPERSETS}: {count} supersets, more than {limit}"
+    planner = NodePlanner(task, family, checker, oracles=oracles, deadline=deadline)
+    plan = tuple(tuple(s) for s in plan)
+    for mask in range(1, count + 1):
+        added = frozenset(rest[k] for k in range(len(rest)) if mask >> k & 1)
+        bigger = frozenset(selection) | added
+        where = "with " + ", ".join(task.names(sorted(added))) + " also explained"
+        sim = simulate(task.updated_model(bigger), plan)
+        if not sim.valid:
+            return Check(SUPERSETS, False, f"{where}: {sim.reason}")
+        opt = planner.optimal(bigger)
+        if opt.status != "optimal" or not opt.exact:
+            return Check(SUPERSETS, False, f"{where}: no proven optimum by {checker}")
+        if opt.cost != sim.cost:
+            return Check(SUPERSETS, False, f"{where}: optimum {opt.cost}; plan: {sim.cost}")
+    if count == 0:
+        return Check(SUPERSETS, True, "E is all of Delta: no strict superset")
+    many = f"{count} supersets" if count > 1 else "1 superset"
+    return Check(SUPERSETS, True, f"{many}, optima by {checker}")
+
+
+def checker_for(producer: str) -> str:
+    """The planner used to re-derive the optimum: never the one that produced the answer.
+    Fast Downward when installed (for built-in or SAT results), else the built-in planner for
+    SAT or Fast Downward results and the SAT OPT oracle for built-in ones."""
+    if producer == "fd":
+        return "builtin"
+    from mega_sat.planners.fast_downward import fd_available
+
+    if fd_available():
+        return "fd"
+    return "builtin" if producer == "sat" else "sat"
+
+
+def verify_pair(
+    task: TwoModelTask,
+    family: GroundFamily,
+    selection: frozenset[int],
+    plan: Sequence[PlanStep],
+    *,
+    producer: str = "sat",
+    robot_cost: int | None = None,
+    human_cost: int | None = None,
+    use_val: bool = True,
+    checker: str | None = None,
+    oracles=None,
+    deadline: Deadline | None = None,
+    update_costs: tuple[int, ...] | None = None,
+    explanation_cost: int | None = None,
+) -> VerifyReport:
+    """Check one answer; ``robot_cost``/``human_cost``, when given, must match the simulation.
+
+    ``update_costs`` (one per update): the report states cost(E) under them, and a reported
+    ``explanation_cost``, when given, must equal it.
+
+    ``oracles``: live SAT oracles of this task, reused when the checker is ``sat``.  The
+    checker's planner stops at ``deadline`` with :class:`~mega_sat.deadline.TimeLimitReached`
+    (an optimum not re-derived is neither a pass nor a failure).
+    """
+    from mega_sat.planners.node_planner import NodePlanner
+
+    plan = tuple(tuple(s) for s in plan)
+    checks: list[Check] = []
+    sim_r = simulate(task.robot, plan)
+    checks.append(
+        Check(
+            "valid in robot model",
+            sim_r.valid,
+            f"cost {sim_r.cost}" if sim_r.valid else sim_r.reason or "invalid",
+        )
+    )
+    if robot_cost is not None and sim_r.valid:
+        checks.append(
+            Check(
+                "robot cost as reported",
+                sim_r.cost == robot_cost,
+                f"reported {robot_cost}, simulated {sim_r.cost}",
+            )
+        )
+    updated = task.updated_model(selection)
+    sim_h = simulate(updated, plan)
+    checks.append(
+        Check(
+            "valid in human + E",
+            sim_h.valid,
+            f"cost {sim_h.cost}" if sim_h.valid else sim_h.reason or "invalid",
+        )
+    )
+    if human_cost is not None and sim_h.valid:
+        checks.append(
+            Check(
+                "human cost as reported",
+                sim_h.cost == human_cost,
+                f"reported {human_cost}, simulated {sim_h.cost}",
+            )
+        )
+    kind = checker or checker_for(producer)
+    opt = NodePlanner(task, family, kind, oracles=oracles, deadline=deadline).optimal(
+        frozenset(selection)
+    )
+    if opt.status == "optimal":
+        good = sim_h.valid and sim_h.cost == opt.cost
+        detail = f"optimum of human + E by {kind}: {opt.cost}; plan: {sim_h.cost}"
+        if not opt.exact:
+            good, detail = False, detail + f" (not proven: {opt.reason})"
+        checks.append(Check("optimal in human + E", good, detail))
+    else:
+        checks.append(
+            Check(
+                "optimal in human + E",
+                False,
+                f"{kind} found no optimal plan of human + E ({opt.status})",
+            )
+        )
+    if use_val:
+        from mega_sat.planners.val import val_available
+
+        if val_available():
+            from mega_sat.pddl.writer import domain_to_pddl, problem_to_pddl
+            from mega_sat.planners.val import val_validate
+
+            for label, model in (("robot model", task.robot), ("human + E", updated)):
+                v = val_validate(domain_to_pddl(model), problem_to_pddl(model), plan)
+                checks.append(
+                    Check(
+                        f"VAL: valid in {label}",
+                        v.valid,
+                        f"cost {v.cost}" if v.valid else v.message,
+                    )
+                )
+    if update_costs is None:
+        return VerifyReport(tuple(checks))
+    from mega_sat.pddl.update_costs import explanation_cost as cost_of
+
+    cost = cost_of(selection, update_costs)
+    if explanation_cost is not None:
+        checks.append(
+            Check(
+                "explanation cost as reported",
+                cost == explanation_cost,
+                f"reported {explanation_cost}, update costs give {cost}",
+            )
+        )
+    return VerifyReport(tuple(checks), cost, len(selection))

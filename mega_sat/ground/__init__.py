@@ -1,0 +1,1 @@
+"""Grounding: one ground family that stands for every model human + E, and plan simulation."""

@@ -1,0 +1,109 @@
+"""Lifted STRIPS models: the one data type every stage of mega-sat starts from.
+
+A :class:`Model` is a planning problem ``M = <D, I, G>`` in a normalised, untyped form:
+
+* names are lower-case (PDDL is case-insensitive);
+* types are compiled away: an object of type ``t`` (and of every supertype of ``t`` except
+  ``object``) gets the static atom ``(t obj)`` in the initial state, and an action parameter
+  ``?x - t`` becomes the precondition ``(t ?x)``.  This makes a difference in type hierarchies an
+  ordinary, explainable model difference (an initial-state or precondition feature), which is
+  what the two-model task needs;
+* action costs are per schema: a constant or a static function term whose ground values come
+  from the problem's initial state.
+
+Atoms are plain tuples ``(predicate, arg, ...)``; lifted arguments start with ``?``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+
+Atom = tuple[str, ...]
+"""``(predicate, arg1, ...)``; arguments are object names or ``?param`` variables."""
+
+CostTerm = tuple[str, ...]
+"""A static function term such as ``('road-length', '?from', '?to')``."""
+
+
+PlanStep = tuple[str, ...]
+"""One step of a plan, ``(action, arg1, ...)``, lower-case."""
+
+
+def step_str(step: PlanStep) -> str:
+    return "(" + " ".join(step) + ")"
+
+
+def atom_str(atom: Atom) -> str:
+    """Render an atom the way the paper prints features: ``clear_path p1 p8``."""
+    return " ".join(atom)
+
+
+def atom_pddl(atom: Atom) -> str:
+    """Render an atom as PDDL: ``(clear_path p1 p8)``."""
+    return "(" + " ".join(atom) + ")"
+
+
+@dataclass(frozen=True)
+class Schema:
+    """A lifted action schema.
+
+    ``cost`` is an ``int`` or a :data:`CostTerm` evaluated in the problem's function table.
+    ``signature`` holds the type atoms ``(t ?x)`` of the parameter list (they are also in
+    ``pre``): a schema only one model has enters or leaves the other model together with them,
+    so they are part of its existence update rather than updates of their own.
+    """
+
+    name: str
+    params: tuple[str, ...]
+    pre: frozenset[Atom] = frozenset()
+    negpre: frozenset[Atom] = frozenset()
+    add: frozenset[Atom] = frozenset()
+    delete: frozenset[Atom] = frozenset()
+    cost: int | CostTerm = 1
+    signature: frozenset[Atom] = frozenset()
+
+    def param_types(self) -> tuple[str, ...]:
+        """The declared type of each parameter ('' when untyped), from ``signature``."""
+        by_param = {a[1]: a[0] for a in sorted(self.signature)}
+        return tuple(by_param.get(p, "") for p in self.params)
+
+
+@dataclass(frozen=True)
+class Model:
+    """A complete planning problem (domain + problem) in normalised form.
+
+    ``predicates`` maps every predicate name (type predicates included) to its arity.
+    ``type_predicates`` names the predicates that stand for PDDL types, so writers and docs can
+    tell them apart.  ``functions`` holds the ground values of static cost functions.
+    ``uses_costs`` records whether the domain declared ``:action-costs``; without it every
+    action costs 1.
+    """
+
+    domain_name: str
+    problem_name: str
+    predicates: Mapping[str, int]
+    schemas: Mapping[str, Schema]
+    objects: frozenset[str]
+    init: frozenset[Atom]
+    goal: frozenset[Atom]
+    type_predicates: frozenset[str] = frozenset()
+    functions: Mapping[CostTerm, int] = field(default_factory=dict)
+    function_arities: Mapping[str, int] = field(default_factory=dict)
+    uses_costs: bool = False
+
+    def schema_cost(self, schema: Schema, args: tuple[str, ...]) -> int:
+        """Cost of ``schema`` applied to ``args`` in this model.
+
+        Raises ``KeyError`` when a cost function value is missing from the problem.
+        """
+        if isinstance(schema.cost, int):
+            return schema.cost
+        binding = dict(zip(schema.params, args, strict=True))
+        term = tuple(binding.get(x, x) for x in schema.cost)
+        return self.functions[term]
+
+
+def ground_atom(atom: Atom, binding: Mapping[str, str]) -> Atom:
+    """Substitute parameters in a lifted atom."""
+    return (atom[0],) + tuple(binding.get(x, x) for x in atom[1:])

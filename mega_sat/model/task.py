@@ -1,0 +1,187 @@
+"""The two-model task: robot model, human model, and the model difference between them.
+
+This is the object the rest of mega-sat works on.  Candidate human models are named by
+subsets of ``delta`` (as frozensets of indices into it): ``frozenset()`` is the human model and
+``task.all_updates`` (every index) is the robot model.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import dataclass, field
+from functools import cached_property
+
+from mega_sat.errors import ModelMismatchError, UsageError
+from mega_sat.model.features import Update, apply_updates, model_difference
+from mega_sat.model.lifted import Atom, Model, Schema
+
+Selection = frozenset[int]
+"""A subset E of Delta, as indices into ``TwoModelTask.delta``."""
+
+
+def _rename(atoms: frozenset[Atom], ren: dict[str, str]) -> frozenset[Atom]:
+    return frozenset((a[0],) + tuple(ren.get(x, x) for x in a[1:]) for a in atoms)
+
+
+def align_human(
+    robot: Model,
+    human: Model,
+    *,
+    robot_name: str = "the robot domain",
+    human_name: str = "the human domain",
+    robot_problem_name: str | None = None,
+    human_problem_name: str | None = None,
+) -> Model:
+    """Rename the human's schema parameters to the robot's, matching them by position.
+
+    Raises :class:`ModelMismatchError` on a schema or predicate of different arity.  The
+    ``*_name`` arguments name the files in messages (problem names default to the domain
+    names with 'domain' replaced by 'problem').
+    """
+    for p, n in human.predicates.items():
+        if p in robot.predicates and robot.predicates[p] != n:
+            raise ModelMismatchError(
+                f"predicate '{p}' has {robot.predicates[p]} argument(s) in {robot_name} "
+                f"but {n} in {human_name}"
+            )
+    for term in set(robot.functions) ^ set(human.functions):
+        if term in robot.functions:
+            side = robot_problem_name or robot_name.replace("domain", "problem")
+        else:
+            side = human_problem_name or human_name.replace("domain", "problem")
+        raise ModelMismatchError(
+            f"cost function value ({' '.join(term)}) is defined only in {side}"
+        )
+    schemas: dict[str, Schema] = {}
+    for name, hs in human.schemas.items():
+        rs = robot.schemas.get(name)
+        if rs is None:
+            schemas[name] = hs
+            continue
+        if len(rs.params) != len(hs.params):
+            raise ModelMismatchError(
+                f"action '{name}' has {len(rs.params)} parameter(s) in {robot_name} but "
+                f"{len(hs.params)} in {human_name}"
+            )
+        ren = dict(zip(hs.params, rs.params, strict=True))
+        cost = hs.cost
+        if not isinstance(cost, int):
+            cost = (cost[0],) + tuple(ren.get(x, x) for x in cost[1:])
+        schemas[name] = Schema(
+            name,
+            rs.params,
+            _rename(hs.pre, ren),
+            _rename(hs.negpre, ren),
+            _rename(hs.add, ren),
+            _rename(hs.delete, ren),
+            cost,
+            _rename(hs.signature, ren),
+        )
+    return Model(
+        domain_name=human.domain_name,
+        problem_name=human.problem_name,
+        predicates=human.predicates,
+        schemas=schemas,
+        objects=human.objects,
+        init=human.init,
+        goal=human.goal,
+        type_predicates=human.type_predicates,
+        functions=human.functions,
+        function_arities=human.function_arities,
+        uses_costs=human.uses_costs,
+    )
+
+
+@dataclass(frozen=True)
+class TwoModelTask:
+    """Robot model ``M^R``, human model ``M^R_h`` (aligned) and ``Delta``.
+
+    ``sources`` records where the models came from, for messages.
+    """
+
+    robot: Model
+    human: Model
+    delta: tuple[Update, ...]
+    sources: dict[str, str] = field(default_factory=dict, compare=False)
+
+    @classmethod
+    def from_models(
+        cls, robot: Model, human: Model, sources: dict[str, str] | None = None
+    ) -> TwoModelTask:
+        sources = sources or {}
+        human = align_human(
+            robot,
+            human,
+            robot_name=sources.get("robot_domain", "the robot domain"),
+            human_name=sources.get("human_domain", "the human domain"),
+            robot_problem_name=sources.get("robot_problem"),
+            human_problem_name=sources.get("human_problem"),
+        )
+        return cls(robot, human, model_difference(robot, human), dict(sources))
+
+    @cached_property
+    def all_updates(self) -> Selection:
+        return frozenset(range(len(self.delta)))
+
+    @cached_property
+    def update_index(self) -> dict[str, int]:
+        return {u.name: i for i, u in enumerate(self.delta)}
+
+    def updated_model(self, selection: Iterable[int]) -> Model:
+        """``human + E`` for ``E`` given as indices into ``delta``."""
+        sel = self.check_selection(selection)
+        return apply_updates(self.human, self.robot, [self.delta[i] for i in sorted(sel)])
+
+    def selection_from_names(self, names: Iterable[str], *, path: str | None = None) -> Selection:
+        """Turn ``add-...``/``remove-...`` lines into a selection; unknown lines are an error."""
+        if isinstance(names, str):
+            names = names.splitlines()
+        elif isinstance(names, bytes) or not isinstance(names, Iterable):
+            raise UsageError(
+                f"an explanation is update names (lines of text), got {type(names).__name__}",
+                path=path,
+            )
+        out = set()
+        for lineno, raw in enumerate(names, 1):
+            if not isinstance(raw, str):
+                raise UsageError(
+                    f"an explanation is update names (str), got {type(raw).__name__}",
+                    path=path,
+                    where=f"line {lineno}",
+                )
+            line = raw.replace("\ufeff", "").strip()
+            if line.startswith("Explanation >>"):
+                line = line[len("Explanation >>") :].strip()
+            if not line or line.startswith(";") or line.startswith("#"):
+                continue
+            if line not in self.update_index:
+                shown = line if line.isprintable() else ascii(line)
+                raise UsageError(
+                    f"'{shown}' is not an update of the model difference (see 'mega-sat diff')",
+                    path=path,
+                    where=f"line {lineno}",
+                )
+            out.add(self.update_index[line])
+        return frozenset(out)
+
+    def names(self, selection: Iterable[int]) -> list[str]:
+        """Update names of a selection, in canonical order."""
+        return [self.delta[i].name for i in sorted(self.check_selection(selection))]
+
+    def check_selection(self, selection: Iterable[int]) -> Selection:
+        """``selection`` as a frozenset of valid indices into ``delta``; anything else (an index
+        out of range, a negative one, a name) is a :class:`UsageError`."""
+        if isinstance(selection, str | bytes) or not isinstance(selection, Iterable):
+            raise UsageError(
+                f"a selection is a set of update indices, got {type(selection).__name__}"
+            )
+        out = set()
+        for i in selection:
+            if isinstance(i, bool) or not isinstance(i, int):
+                raise UsageError(f"a selection holds update indices (int), got {i!r}")
+            if not 0 <= i < len(self.delta):
+                raise UsageError(
+                    f"update index {i} is out of range (Delta has {len(self.delta)} updates)"
+                )
+            out.add(i)
+        return frozenset(out)

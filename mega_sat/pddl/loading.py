@@ -1,0 +1,150 @@
+"""Load a two-model task from PDDL files, strings, or a ``--task DIR`` directory.
+
+The file paths travel with the task (``TwoModelTask.sources``) so that a later message, e.g. a
+:class:`~mega_sat.errors.ModelMismatchError` about an arity, names the files involved.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from mega_sat.errors import UsageError
+from mega_sat.model.task import TwoModelTask
+from mega_sat.pddl.reader import parse_model, read_text
+
+TASK_FILES = {
+    "robot_domain": "robot-domain.pddl",
+    "robot_problem": "robot-problem.pddl",
+    "human_domain": "human-domain.pddl",
+    "human_problem": "human-problem.pddl",
+}
+"""The file names ``--task DIR`` looks for, by role."""
+
+
+def load_task(
+    robot_domain: str | Path,
+    robot_problem: str | Path,
+    human_domain: str | Path,
+    human_problem: str | Path | None = None,
+) -> TwoModelTask:
+    """Read the four files (the human problem defaults to the robot problem) into a task."""
+    _check_args(
+        "load_task",
+        "a file path",
+        (str, Path),
+        robot_domain=robot_domain,
+        robot_problem=robot_problem,
+        human_domain=human_domain,
+        human_problem=human_problem,
+    )
+    for role, p in (
+        ("robot_domain", robot_domain),
+        ("robot_problem", robot_problem),
+        ("human_domain", human_domain),
+        ("human_problem", human_problem),
+    ):
+        if p == role:
+            raise UsageError(
+                f"load_task: got the name '{role}' instead of a path (pass the dict of "
+                "resolve_task_dir as load_task(**paths), or use load_task_dir)"
+            )
+        if isinstance(p, str) and ("(" in p or "\n" in p):
+            raise UsageError(
+                f"load_task: {role} looks like PDDL text, not a file path "
+                "(use load_task_from_strings for PDDL texts)"
+            )
+    paths = {
+        "robot_domain": str(robot_domain),
+        "robot_problem": str(robot_problem),
+        "human_domain": str(human_domain),
+        "human_problem": str(human_problem if human_problem is not None else robot_problem),
+    }
+    texts = {role: read_text(p, role.replace("_", " ")) for role, p in paths.items()}
+    return task_from_texts(texts, paths)
+
+
+def load_task_from_strings(
+    robot_domain: str,
+    robot_problem: str,
+    human_domain: str,
+    human_problem: str | None = None,
+) -> TwoModelTask:
+    """Like :func:`load_task` for PDDL texts; messages name them 'robot domain' and so on."""
+    _check_args(
+        "load_task_from_strings",
+        "PDDL text (a str)",
+        (str,),
+        robot_domain=robot_domain,
+        robot_problem=robot_problem,
+        human_domain=human_domain,
+        human_problem=human_problem,
+    )
+    texts = {
+        "robot_domain": robot_domain,
+        "robot_problem": robot_problem,
+        "human_domain": human_domain,
+        "human_problem": human_problem if human_problem is not None else robot_problem,
+    }
+    names = {role: role.replace("_", " ") for role in texts}
+    return task_from_texts(texts, names)
+
+
+def _check_args(fn: str, expected: str, types: tuple[type, ...], **args: object) -> None:
+    """A clear error for an argument of the wrong type (the human problem may be None)."""
+    for role, value in args.items():
+        if value is None and role == "human_problem":
+            continue
+        if not isinstance(value, types):
+            raise UsageError(f"{fn}: {role} must be {expected}, got {type(value).__name__}")
+
+
+def task_from_texts(texts: dict[str, str], names: dict[str, str]) -> TwoModelTask:
+    """The task of four PDDL texts; ``names`` says how messages name each of them."""
+    robot = parse_model(
+        texts["robot_domain"],
+        texts["robot_problem"],
+        domain_path=names["robot_domain"],
+        problem_path=names["robot_problem"],
+    )
+    human = parse_model(
+        texts["human_domain"],
+        texts["human_problem"],
+        domain_path=names["human_domain"],
+        problem_path=names["human_problem"],
+    )
+    return TwoModelTask.from_models(robot, human, sources=dict(names))
+
+
+def load_task_dir(d: str | Path) -> TwoModelTask:
+    """The task of a ``--task DIR`` folder (see :func:`resolve_task_dir`)."""
+    return load_task(**resolve_task_dir(d))
+
+
+def resolve_task_dir(d: str | Path) -> dict[str, Path]:
+    """The four files of a ``--task DIR`` directory, keyed like :func:`load_task`'s arguments.
+
+    ``DIR`` holds ``robot-problem.pddl`` and optionally ``human-problem.pddl`` (default: the
+    robot problem); the two domain files are looked for in ``DIR`` and then in its parent, so
+    several problems can share one pair of domains.
+    """
+    task_dir = Path(d)
+    if not task_dir.is_dir():
+        raise UsageError("task directory not found", path=str(task_dir))
+    out: dict[str, Path] = {}
+    robot_problem = task_dir / TASK_FILES["robot_problem"]
+    if not robot_problem.is_file():
+        raise UsageError(f"no {TASK_FILES['robot_problem']} in the task directory", path=str(d))
+    out["robot_problem"] = robot_problem
+    for role in ("robot_domain", "human_domain"):
+        candidates = [task_dir / TASK_FILES[role], task_dir.parent / TASK_FILES[role]]
+        found = next((c for c in candidates if c.is_file()), None)
+        if found is None:
+            raise UsageError(
+                f"no {TASK_FILES[role]} in the task directory or its parent "
+                f"(looked for {candidates[0]} and {candidates[1]})",
+                path=str(d),
+            )
+        out[role] = found
+    human_problem = task_dir / TASK_FILES["human_problem"]
+    out["human_problem"] = human_problem if human_problem.is_file() else robot_problem
+    return {role: out[role] for role in TASK_FILES}

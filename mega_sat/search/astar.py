@@ -1,0 +1,237 @@
+"""Built-in optimal classical planner: explicit-state A* on a :class:`GroundTask`.
+
+This is the per-node planner of the A* MEGA baseline and the independent optimal planner used by
+verification, so it must be exactly optimal (also with zero-cost actions) and deterministic.
+
+* States are ``int`` bitmasks over atom ids; applicability is two mask tests.
+* Heuristics: ``lmcut`` (Helmert & Domshlak 2009, admissible), ``hmax`` and ``blind``.  Both
+  relaxation heuristics ignore delete effects and negative preconditions, which only makes the
+  relaxation weaker, so they stay admissible.  LM-cut is not consistent, so closed states are
+  reopened when a cheaper path is found.
+* Tie-breaking is deterministic: lower ``f``, then lower ``h``, then first generated (FIFO).
+* ``unsolvable`` is returned only when the search space is exhausted or the goal is
+  relaxed-unreachable from the initial state.
+"""
+
+from __future__ import annotations
+
+import heapq
+import time
+from dataclasses import dataclass
+
+from mega_sat.analysis.relaxation import RelaxedTask, bits
+from mega_sat.ground.family import GroundTask
+from mega_sat.model.lifted import PlanStep
+
+HEURISTICS = ("lmcut", "hmax", "blind")
+_INF = float("inf")
+
+
+@dataclass(frozen=True)
+class PlanResult:
+    """Outcome of one optimal planning call.
+
+    ``status`` is ``optimal`` (``plan``/``cost`` set), ``unsolvable`` (proven) or ``timeout``
+    (time or node limit reached, nothing proven).
+    """
+
+    status: str
+    plan: tuple[PlanStep, ...] | None
+    cost: int | None
+    expanded: int
+    time_s: float
+    planner: str
+
+
+def _successor_groups(task: GroundTask) -> list[tuple[int, list[tuple]]]:
+    """Actions grouped by one of their preconditions (the least shared one), so a state only
+    tests actions whose key atom is true.  Group bit 0 means "always test"."""
+    count: dict[int, int] = {}
+    for a in task.actions:
+        for p in a.pre:
+            count[p] = count.get(p, 0) + 1
+    groups: dict[int, list[tuple]] = {}
+    for j, a in enumerate(task.actions):
+        key = min(a.pre, key=lambda p: (count[p], p)) if a.pre else -1
+        pre = sum(1 << p for p in a.pre)
+        neg = sum(1 << p for p in a.negpre)
+        add = sum(1 << p for p in a.add)
+        dl = sum(1 << p for p in a.delete)
+        groups.setdefault(key, []).append((j, pre, neg, ~dl, add, a.cost))
+    return [(0 if k < 0 else 1 << k, acts) for k, acts in sorted(groups.items())]
+
+
+def astar(
+    task: GroundTask,
+    *,
+    heuristic: str = "lmcut",
+    time_limit: float | None = None,
+    node_limit: int | None = None,
+) -> PlanResult:
+    """Optimal plan of ``task`` by A* with reopening."""
+    if heuristic not in HEURISTICS:
+        raise ValueError(f"unknown heuristic {heuristic!r} (choose from {', '.join(HEURISTICS)})")
+    t0 = time.perf_counter()
+    planner = f"builtin-astar({heuristic})"
+    goal = sum(1 << p for p in task.goal)
+    init = sum(1 << p for p in task.init)
+    min_cost = min((a.cost for a in task.actions), default=0)
+
+    if heuristic == "blind":
+
+        def h_of(s: int) -> float:
+            return 0 if s & goal == goal else min_cost
+    else:
+        relaxed = RelaxedTask(task)
+        fn = relaxed.lmcut if heuristic == "lmcut" else relaxed.h_max
+
+        def h_of(s: int) -> float:
+            return fn(bits(s))
+
+    def result(status: str, plan=None, cost=None) -> PlanResult:
+        return PlanResult(status, plan, cost, expanded, time.perf_counter() - t0, planner)
+
+    expanded = 0
+    h0 = h_of(init)
+    if h0 == _INF:
+        return result("unsolvable")
+    if heuristic == "blind" and min_cost <= 0:
+        # h is 0 everywhere: Dijkstra, in the same order as the heap below (by g, then first
+        # generated), but with a FIFO list per g; OPT's lowered-cost search lives here
+        status, plan, cost, expanded = _uniform_cost(task, init, goal, node_limit, t0, time_limit)
+        return result(status, plan, cost)
+    groups = _successor_groups(task)
+    actions = task.actions
+    best_g: dict[int, int] = {init: 0}
+    parent: dict[int, tuple[int, int] | None] = {init: None}
+    h_cache: dict[int, float] = {init: h0}
+    counter = 0
+    open_list: list[tuple] = [(h0, h0, counter, 0, init)]
+    deadline = None if time_limit is None else t0 + time_limit
+    while open_list:
+        _, _, _, g, s = heapq.heappop(open_list)
+        if g > best_g[s]:
+            continue
+        if s & goal == goal:
+            return result("optimal", _trace(parent, actions, s), g)
+        if node_limit is not None and expanded >= node_limit:
+            return result("timeout")
+        if deadline is not None and expanded % 32 == 0 and time.perf_counter() > deadline:
+            return result("timeout")
+        expanded += 1
+        for bit, acts in groups:
+            if bit and not s & bit:
+                continue
+            for j, pre, neg, keep, add, c in acts:
+                if s & pre != pre or s & neg:
+                    continue
+                s2 = (s & keep) | add
+                g2 = g + c
+                old = best_g.get(s2)
+                if old is not None and g2 >= old:
+                    continue
+                h2 = h_cache.get(s2)
+                if h2 is None:
+                    h2 = h_cache[s2] = h_of(s2)
+                if h2 == _INF:
+                    continue
+                best_g[s2] = g2
+                parent[s2] = (s, j)
+                counter += 1
+                heapq.heappush(open_list, (g2 + h2, h2, counter, g2, s2))
+    return result("unsolvable")
+
+
+def _trace(
+    parent: dict[int, tuple[int, int] | None], actions: tuple, s: int
+) -> tuple[PlanStep, ...]:
+    """The plan that reached state ``s``, read back along ``parent`` (state, action index)."""
+    steps = []
+    while (link := parent[s]) is not None:
+        s, j = link
+        steps.append(actions[j].step)
+    return tuple(reversed(steps))
+
+
+def _uniform_cost(
+    task: GroundTask,
+    init: int,
+    goal: int,
+    node_limit: int | None,
+    t0: float,
+    time_limit: float | None,
+) -> tuple[str, tuple[PlanStep, ...] | None, int | None, int]:
+    """Uniform-cost search with one FIFO list per path cost ``g`` (``(status, plan, cost,
+    expanded)``).  It expands states in exactly the order of :func:`astar`'s heap with
+    ``h = 0`` (lower ``g``, then first generated), without the heap: 15 % faster on the
+    lowered-cost search of barman-bar/p3, where most actions cost 0."""
+    groups = _successor_groups(task)
+    actions = task.actions
+    best_g: dict[int, int] = {init: 0}
+    parent: dict[int, tuple[int, int] | None] = {init: None}
+    buckets: dict[int, list[int]] = {0: [init]}
+    pending = [0]  # the g values with a list, as a heap
+    deadline = None if time_limit is None else t0 + time_limit
+    expanded = 0
+    while pending:
+        g = heapq.heappop(pending)
+        queue = buckets.pop(g)
+        i = 0
+        while i < len(queue):  # zero-cost successors are appended while we go
+            s = queue[i]
+            i += 1
+            if best_g[s] != g:
+                continue
+            if s & goal == goal:
+                return "optimal", _trace(parent, actions, s), g, expanded
+            if node_limit is not None and expanded >= node_limit:
+                return "timeout", None, None, expanded
+            if deadline is not None and expanded % 32 == 0 and time.perf_counter() > deadline:
+                return "timeout", None, None, expanded
+            expanded += 1
+            for bit, acts in groups:
+                if bit and not s & bit:
+                    continue
+                for j, pre, neg, keep, add, c in acts:
+                    if s & pre != pre or s & neg:
+                        continue
+                    s2 = (s & keep) | add
+                    g2 = g + c
+                    old = best_g.get(s2)
+                    if old is not None and g2 >= old:
+                        continue
+                    best_g[s2] = g2
+                    parent[s2] = (s, j)
+                    if g2 == g:
+                        queue.append(s2)
+                    elif g2 in buckets:
+                        buckets[g2].append(s2)
+                    else:
+                        buckets[g2] = [s2]
+                        heapq.heappush(pending, g2)
+    return "unsolvable", None, None, expanded
+
+
+def solve_optimal(
+    task: GroundTask, *, time_limit: float | None = None, blind_nodes: int = 300_000
+) -> PlanResult:
+    """The built-in planner's portfolio: uniform-cost search first, A* with LM-cut after.
+
+    Both are optimal, so the answer is exact either way.  On the small state spaces of model
+    families blind search wins by a wide margin (LM-cut in pure Python costs milliseconds per
+    state); when blind search passes ``blind_nodes`` expansions, LM-cut's pruning pays off.
+    """
+    t0 = time.perf_counter()
+    r = astar(task, heuristic="blind", time_limit=time_limit, node_limit=blind_nodes)
+    if r.status != "timeout" or (time_limit is not None and time.perf_counter() - t0 >= time_limit):
+        return r
+    rest = None if time_limit is None else time_limit - (time.perf_counter() - t0)
+    r2 = astar(task, heuristic="lmcut", time_limit=rest)
+    return PlanResult(
+        r2.status,
+        r2.plan,
+        r2.cost,
+        r.expanded + r2.expanded,
+        time.perf_counter() - t0,
+        "builtin(blind+lmcut)",
+    )

@@ -1,0 +1,1 @@
+"""Helpers of the test suite: task generators and the brute-force oracle."""
