@@ -16,6 +16,8 @@ PACKAGE = Path(mega_sat.__file__).parent
 # the pipeline, lowest first: a module may import from its own stage or one listed before it
 STAGES = [
     "errors",
+    "status",
+    "options",
     "deadline",
     "output",
     "executor",
@@ -82,3 +84,32 @@ def test_model_package_keeps_its_names():
     assert Model.__module__ == "mega_sat.model.lifted"
     assert step_str(("move", "a", "b")) == "(move a b)"
     assert PlanStep == tuple[str, ...]
+
+
+def test_options_parse_key_value_pairs_and_refuse_bad_ones():
+    from mega_sat.errors import UsageError
+    from mega_sat.options import Options
+
+    got = Options().with_pairs(["horizon_cap=50", "step-first=false", "counting_time_limit=0.5"])
+    assert (got.horizon_cap, got.step_first, got.counting_time_limit) == (50, False, 0.5)
+    assert Options().horizon_cap == 200
+    for bad, words in [
+        ("horizon_cap", "expected key=value"),
+        ("nope=1", "unknown option 'nope'"),
+        ("horizon_cap=x", "expected a number"),
+        ("horizon_cap=0", "must be positive"),
+        ("step_first=maybe", "expected true or false"),
+    ]:
+        with pytest.raises(UsageError, match=words):
+            Options().with_pairs([bad])
+    assert all(doc for _, _, doc in Options.docs())
+
+
+def test_status_reads_as_its_word():
+    import json
+
+    from mega_sat.status import Status
+
+    assert f"{Status.OPTIMAL}" == "optimal" == Status.OPTIMAL
+    assert json.dumps([Status.INFEASIBLE]) == '["infeasible"]'
+    assert not Status.TIMEOUT.decided and Status.UNSOLVABLE.decided

@@ -1,0 +1,121 @@
+"""Every tuning knob of mega-sat, with its default and what it trades, in one place.
+
+A knob changes how fast an answer comes, never which answer: frontiers are the same for every
+setting (a budget that runs out falls back to a complete method, or the result says it is not
+proven).  ``MegaSolver(options=Options(...))`` and ``mega-sat ... --option key=value`` set them.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Iterable
+from dataclasses import dataclass, field, fields
+
+from mega_sat.errors import UsageError
+
+
+@dataclass(frozen=True)
+class Options:
+    """The knobs.  Each field's ``metadata["doc"]`` is the sentence docs/cli.md lists."""
+
+    horizon_cap: int = field(
+        default=200,
+        metadata={"doc": "largest SAT horizon; past it OPT/JOINT fall back to explicit search"},
+    )
+    core_calls: int = field(
+        default=64, metadata={"doc": "SAT calls spent shrinking one JOINT core before it is used"}
+    )
+    core_conflict_budget: int = field(
+        default=5000, metadata={"doc": "conflicts per core-shrinking SAT call"}
+    )
+    dominance_conflict_budget: int = field(
+        default=3000,
+        metadata={"doc": "conflicts spent proving a JOINT core by human-cost dominance"},
+    )
+    fallback_node_limit: int = field(
+        default=200_000,
+        metadata={"doc": "nodes of the explicit search that answers past the horizon cap"},
+    )
+    solve_chunk: int = field(
+        default=5000,
+        metadata={"doc": "conflicts per SAT solve chunk (the deadline is checked between chunks)"},
+    )
+    first_chunk: int = field(
+        default=1000,
+        metadata={"doc": "conflicts of the first chunk; chunk i gets min(solve_chunk, i * this)"},
+    )
+    extra_node_limit: int = field(
+        default=10_000,
+        metadata={"doc": "nodes of the search for the robot's extra cost above N * c_min"},
+    )
+    opt_probe_budget: int = field(
+        default=3000, metadata={"doc": "conflicts of OPT's first cost probe at a horizon"}
+    )
+    opt_extra_node_limit: int = field(
+        default=20_000,
+        metadata={"doc": "nodes of OPT's search for the extra cost above N * c_min"},
+    )
+    counting_time_limit: float = field(
+        default=2.0,
+        metadata={"doc": "seconds per operator-counting integer program (a lower bound)"},
+    )
+    step_first: bool = field(
+        default=True,
+        metadata={"doc": "OPT asks for a step bound before its cost bounds"},
+    )
+    core_search_factor: float = field(
+        default=3.0,
+        metadata={"doc": "explicit JOINT search gets this many times OPT's seconds"},
+    )
+    joint_core_factor: float = field(
+        default=2.0,
+        metadata={"doc": "node factor of the explicit JOINT search that confirms a core"},
+    )
+    quick_nodes: int = field(
+        default=5000,
+        metadata={"doc": "nodes of the blind search tried first in the sat engine's OPT"},
+    )
+    blind_nodes: int = field(
+        default=300_000,
+        metadata={"doc": "nodes of the blind search before solve_optimal switches to LM-cut"},
+    )
+
+    @classmethod
+    def docs(cls) -> list[tuple[str, str, str]]:
+        """``(name, default, sentence)`` for every knob, in declaration order."""
+        return [(f.name, repr(f.default), f.metadata["doc"]) for f in fields(cls)]
+
+    def with_pairs(self, pairs: Iterable[str]) -> Options:
+        """A copy with ``key=value`` settings applied (the CLI's repeatable ``--option``)."""
+        types = {f.name: f.type for f in fields(self)}
+        changes: dict[str, object] = {}
+        for pair in pairs:
+            key, sep, text = pair.partition("=")
+            key = key.strip().replace("-", "_")
+            if not sep:
+                raise UsageError(f"--option {pair!r}: expected key=value")
+            if key not in types:
+                known = ", ".join(sorted(types))
+                raise UsageError(f"--option {pair!r}: unknown option {key!r} (known: {known})")
+            changes[key] = _parse(key, types[key], text.strip())
+        return dataclasses.replace(self, **changes)
+
+
+def _parse(key: str, kind: str, text: str) -> object:
+    if kind == "bool":
+        low = text.lower()
+        if low in ("1", "true", "yes", "on"):
+            return True
+        if low in ("0", "false", "no", "off"):
+            return False
+        raise UsageError(f"--option {key}={text}: expected true or false")
+    try:
+        value = int(text) if kind == "int" else float(text)
+    except ValueError:
+        raise UsageError(f"--option {key}={text}: expected a number ({kind})") from None
+    if not value > 0:
+        raise UsageError(f"--option {key}={text}: must be positive")
+    return value
+
+
+DEFAULT = Options()
