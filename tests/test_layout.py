@@ -113,3 +113,41 @@ def test_status_reads_as_its_word():
     assert f"{Status.OPTIMAL}" == "optimal" == Status.OPTIMAL
     assert json.dumps([Status.INFEASIBLE]) == '["infeasible"]'
     assert not Status.TIMEOUT.decided and Status.UNSOLVABLE.decided
+
+
+def _third_party_imports() -> set[str]:
+    import sys
+
+    found = set()
+    for path in PACKAGE.rglob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.Import):
+                names = [a.name for a in node.names]
+            elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+                names = [node.module]
+            else:
+                continue
+            for name in names:
+                top = name.split(".")[0]
+                if top not in sys.stdlib_module_names and top != "mega_sat":
+                    found.add(top)
+    return found
+
+
+def test_declared_dependencies_match_the_imports():
+    import re
+
+    tomllib = pytest.importorskip("tomllib")  # Python 3.11+
+
+    project = tomllib.loads((PACKAGE.parent / "pyproject.toml").read_text())["project"]
+    declared = {re.split(r"[<>=!\[ ]", d)[0].lower() for d in project["dependencies"]}
+    extras = {
+        re.split(r"[<>=!\[ ]", d)[0].lower()
+        for group in project["optional-dependencies"].values()
+        for d in group
+    }
+    distribution = {"pysat": "python-sat", "unified_planning": "unified-planning"}
+    imported = {distribution.get(m, m) for m in _third_party_imports()}
+    # every import is declared, core or extra; every core dependency is imported
+    assert imported - declared - extras == set()
+    assert declared - imported == set()

@@ -203,10 +203,9 @@ class EncodingFacts:
     (both oracle encodings share it): invariants per state copy, guarded mutexes of the human
     copy, and the backward layers.
 
-    The guarded mutexes cost up to two h^2 computations per update (0.41 s on usar-fetch
-    Δ=20 p2 before fixings equal to the free abstraction were skipped; it finds none), so
-    they are computed on first use (:attr:`guarded`); the encoding asks for them only once
-    it has more than a few steps."""
+    The guarded mutexes cost up to two h^2 computations per update, more than the rest
+    together on large model differences, so they are computed on first use
+    (:attr:`guarded`); the encoding asks for them only once it has more than a few steps."""
 
     human: Invariants
     robot: Invariants
