@@ -276,3 +276,50 @@ def test_omitted_action_parts_empty_sections_and_crlf():
     assert m.schemas["no-effect"].pre == {("p", "?x")} and m.schemas["no-effect"].add == set()
     with pytest.raises(PDDLError, match=r"^d\.pddl: line 5: undefined predicate 'r'"):
         parse_model(dom.replace("(not (p ?x))", "(r ?x)"), prob, domain_path="d.pddl")
+
+
+def test_a_valid_file_is_parsed_once(monkeypatch):
+    from mega_sat.pddl import library as pddl_library
+    from mega_sat.pddl import reader as pddl_reader
+
+    parsed: list[str] = []
+    real_parse_tree = pddl_library.parse_tree
+
+    def counting_parse_tree(text, kind):
+        parsed.append(kind)
+        return real_parse_tree(text, kind)
+
+    def no_text_reading(*args):
+        raise AssertionError("a valid file is read from the library's tokens")
+
+    monkeypatch.setattr(pddl_reader, "parse_tree", counting_parse_tree)
+    monkeypatch.setattr(pddl_library, "parse_tree", counting_parse_tree)
+    monkeypatch.setattr(pddl_reader, "read_sexpr", no_text_reading)
+    m = read_model(DATA / "typed-domain.pddl", DATA / "typed-problem.pddl")
+    assert parsed == ["domain", "problem"] and m.domain_name == "typed-logistics"
+
+
+def test_library_error_before_a_syntax_error_comes_first():
+    # the library transforms each rule as the parser completes it: its error on the duplicate
+    # object precedes the syntax error of the metric placed before the goal
+    dom = (
+        "(define (domain d) (:requirements :action-costs) (:predicates (p ?x))"
+        " (:functions (total-cost) - number) (:action a :parameters (?x) :effect (p ?x)))"
+    )
+    prob = "(define (problem q) (:domain d) (:objects o o) (:init) (:goal (p o)))"
+    with pytest.raises(PDDLError, match=r"^p\.pddl: invalid PDDL: .*duplicate name 'o'"):
+        parse_model(dom, prob, problem_path="p.pddl")
+    late = prob.replace("(:goal", "(:metric minimize (total-cost)) (:goal")
+    with pytest.raises(PDDLError, match=r"^p\.pddl: invalid PDDL: .*duplicate name 'o'"):
+        parse_model(dom, late, problem_path="p.pddl")
+    with pytest.raises(PDDLError, match=r"^p\.pddl: line 1: syntax error: unexpected ':metric'"):
+        parse_model(dom, late.replace("o o)", "o)"), problem_path="p.pddl")
+
+
+def test_a_failed_file_leaves_nothing_for_the_next():
+    # the library's syntax error comes after its transformer has read the types
+    typed = (DATA / "typed-domain.pddl").read_text().replace("(:predicates", "(:predicates (1r)")
+    with pytest.raises(PDDLError, match="syntax error: unexpected '1'"):
+        parse_model(typed, (DATA / "typed-problem.pddl").read_text())
+    m = read_model(DATA / "typed-domain.pddl", DATA / "typed-problem.pddl")
+    assert "truck" in m.type_predicates

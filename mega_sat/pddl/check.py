@@ -1,0 +1,493 @@
+"""Check PDDL s-expressions against what mega-sat reads, naming file, line and construct.
+
+The check walks the s-expressions of :mod:`mega_sat.pddl.sexpr` and raises a one-line
+:class:`PDDLError` at the first problem: a malformed form, an undefined or mis-used name, or a
+construct mega-sat does not support.  This module checks the domain; the problem checks build on
+it in :mod:`mega_sat.pddl.check_problem`.
+
+* refused constructs: conditional effects (``when``), quantifiers (``forall``, ``exists``),
+  disjunctions (``or``, ``imply``, negated compound conditions), equality ``(= ?x ?y)``,
+  numeric comparisons, numeric effects other than ``(increase (total-cost) ...)``
+  (``decrease``, ``assign``, ``scale-up``, ``scale-down``, increases of other functions),
+  ``oneof``, ``either`` types (except in predicate and function declarations, whose argument
+  types are ignored anyway), ``:derived``, ``:durative-action``, ``:process``, ``:event``,
+  ``:constraints``, object fluents, timed initial literals, negative or non-conjunctive goals,
+  cost expressions other than a non-negative integer or a static function term, and metrics
+  other than ``minimize (total-cost)``;
+* requirement flags: a flag only *permits* constructs, so flags whose constructs are detected
+  one by one (``:adl``, ``:equality``, ``:conditional-effects``, ``:disjunctive-preconditions``,
+  the quantifier flags, ``:derived-predicates``, ``:numeric-fluents``, ``:fluents``) are
+  accepted and only an actual use is refused.  Flags outside classical planning
+  (``:durative-actions``, ``:timed-initial-literals``, ``:preferences``, ``:constraints``,
+  ``:object-fluents``, ...) and unknown flags are refused, since a file declaring them almost
+  certainly relies on them;
+* missing flags are tolerated (as Fast Downward does: ``(not ...)`` without
+  ``:negative-preconditions``, types without ``:typing``), except that an action cost
+  ``(increase (total-cost) ...)`` requires ``:action-costs``: without it every action costs 1
+  and silently dropping a cost effect would change the task.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+
+from mega_sat.errors import PDDLError
+from mega_sat.pddl.sexpr import Node, SList, Tok, show
+
+ACCEPTED_REQS = frozenset({
+    ":strips", ":typing", ":negative-preconditions", ":action-costs", ":equality", ":adl",
+    ":conditional-effects", ":disjunctive-preconditions", ":existential-preconditions",
+    ":universal-preconditions", ":quantified-preconditions", ":derived-predicates",
+    ":numeric-fluents", ":fluents",
+})  # fmt: skip
+REFUSED_REQS = {
+    ":durative-actions": "durative actions",
+    ":duration-inequalities": "duration inequalities",
+    ":continuous-effects": "continuous effects",
+    ":timed-initial-literals": "timed initial literals",
+    ":preferences": "preferences",
+    ":constraints": "state-trajectory constraints",
+    ":object-fluents": "object fluents",
+    ":non-deterministic": "non-deterministic effects",
+    ":probabilistic-effects": "probabilistic effects",
+}
+REFUSED_SECTIONS = {
+    ":derived": "derived predicates (:derived)",
+    ":durative-action": "durative actions (:durative-action)",
+    ":process": "processes (:process)",
+    ":event": "events (:event)",
+    ":constraints": "state-trajectory constraints (:constraints)",
+}
+CONDITION_REFUSALS = {
+    "or": "disjunction 'or'",
+    "imply": "implication 'imply'",
+    "forall": "universal quantifier 'forall'",
+    "exists": "existential quantifier 'exists'",
+    "when": "conditional effect 'when'",
+    "oneof": "non-deterministic effect 'oneof'",
+    "<": "numeric comparison '<'",
+    ">": "numeric comparison '>'",
+    "<=": "numeric comparison '<='",
+    ">=": "numeric comparison '>='",
+    "either": "'either' type",
+}
+EFFECT_REFUSALS = {
+    "when": "conditional effect 'when'",
+    "forall": "universal effect 'forall'",
+    "oneof": "non-deterministic effect 'oneof'",
+    "decrease": "numeric effect 'decrease' (numeric fluents)",
+    "assign": "numeric effect 'assign' (numeric fluents)",
+    "scale-up": "numeric effect 'scale-up' (numeric fluents)",
+    "scale-down": "numeric effect 'scale-down' (numeric fluents)",
+    "or": "disjunction 'or'",
+    "exists": "existential quantifier 'exists'",
+}
+KEYWORDS = frozenset({"and", "not", "=", *CONDITION_REFUSALS, *EFFECT_REFUSALS, "increase"})
+INT_RE = re.compile(r"-?[0-9]+(\.0*)?")
+NUMBER_RE = re.compile(r"-?[0-9]+(\.[0-9]*)?")
+
+
+@dataclass
+class DomainInfo:
+    """What the problem check and the conversion need from the domain."""
+
+    name: str = ""
+    requirements: set[str] = field(default_factory=set)
+    types: dict[str, str] = field(default_factory=dict)
+    constants: dict[str, str] = field(default_factory=dict)
+    predicates: dict[str, int] = field(default_factory=dict)
+    functions: dict[str, int] = field(default_factory=dict)
+    uses_total_cost: bool = False
+    edits: list[tuple[int, int, str]] = field(default_factory=list)
+    """Text edits (start, end, replacement) that turn valid PDDL the ``pddl`` library's grammar
+    cannot read (an empty section, an action without ``:parameters``) into PDDL it reads."""
+
+
+class Checker:
+    """The structural walk of a domain; raises :class:`PDDLError` at the first problem."""
+
+    def __init__(self, path: str):
+        self.path = path
+
+    def fail(self, message: str, node: Node | None) -> PDDLError:
+        where = f"line {node.line}" if node is not None else None
+        return PDDLError(message, path=self.path, where=where)
+
+    def refuse(self, construct: str, node: Node) -> PDDLError:
+        return self.fail(f"{construct} is not supported by mega-sat", node)
+
+    # -- shared helpers ------------------------------------------------------------------------
+
+    def header(self, root: SList, kind: str) -> tuple[SList, str]:
+        """Check ``(define (kind NAME) ...)``; return the name node and the name."""
+        if root.head != "define":
+            raise self.fail("expected '(define ...)'", root)
+        if len(root.items) < 2 or not isinstance(root.items[1], SList):
+            raise self.fail(f"expected '({kind} NAME)' after 'define'", root)
+        node = root.items[1]
+        other = "problem" if kind == "domain" else "domain"
+        if node.head == other:
+            raise self.fail(f"this is a {other} file, expected a {kind} file", node)
+        if node.head != kind or len(node.items) != 2 or not isinstance(node.items[1], Tok):
+            raise self.fail(f"expected '({kind} NAME)' after 'define'", node)
+        return node, node.items[1].text
+
+    def sections(self, root: SList) -> Iterator[tuple[str, SList]]:
+        for node in root.items[2:]:
+            if not isinstance(node, SList) or not (node.head or "").startswith(":"):
+                raise self.fail(f"expected a section '(:keyword ...)', got {show(node)}", node)
+            yield node.head or "", node
+
+    def requirements(self, node: SList) -> set[str]:
+        out = set()
+        for tok in node.items[1:]:
+            if not isinstance(tok, Tok):
+                raise self.fail("malformed :requirements", tok)
+            if tok.text in REFUSED_REQS:
+                raise self.refuse(f"requirement {tok.text} ({REFUSED_REQS[tok.text]})", tok)
+            if tok.text not in ACCEPTED_REQS:
+                raise self.fail(f"unknown requirement '{tok.text}'", tok)
+            out.add(tok.text)
+        return out
+
+    def typed_list(
+        self, items: tuple[Node, ...], what: str, *, either_ok: bool = False
+    ) -> list[tuple[Tok, str]]:
+        """``a b - t c`` as ``[(a, t), (b, t), (c, object)]``."""
+        out: list[tuple[Tok, str]] = []
+        pending: list[Tok] = []
+        i = 0
+        while i < len(items):
+            it = items[i]
+            if isinstance(it, Tok) and it.text == "-":
+                if not pending:
+                    raise self.fail(f"'-' without a name before it in {what}", it)
+                if i + 1 >= len(items):
+                    raise self.fail(f"missing type after '-' in {what}", it)
+                t = items[i + 1]
+                if isinstance(t, SList):
+                    if t.head != "either":
+                        raise self.fail(f"malformed type {show(t)} in {what}", t)
+                    if not either_ok:
+                        raise self.refuse("'either' type", t)
+                    typ = "object"
+                else:
+                    typ = t.text
+                out.extend((p, typ) for p in pending)
+                pending = []
+                i += 2
+                continue
+            if isinstance(it, SList):
+                raise self.fail(f"unexpected {show(it)} in {what}", it)
+            pending.append(it)
+            i += 1
+        out.extend((p, "object") for p in pending)
+        return out
+
+    def check_type(self, typ: str, types: dict[str, str], node: Node, what: str) -> None:
+        if typ != "object" and typ not in types:
+            raise self.fail(f"undefined type '{typ}' in {what}", node)
+
+    def atom(
+        self,
+        node: SList,
+        info: DomainInfo,
+        variables: set[str] | None,
+        names: set[str] | dict[str, str],
+        what: str,
+    ) -> None:
+        """Check predicate, arity and arguments of an atom; ``variables`` None: no variables."""
+        pred = node.head
+        if pred is None:
+            raise self.fail(f"expected an atom in {what}, got {show(node)}", node)
+        if pred not in info.predicates:
+            raise self.fail(f"undefined predicate '{pred}' in {what}", node)
+        args = node.items[1:]
+        if len(args) != info.predicates[pred]:
+            raise self.fail(
+                f"predicate '{pred}' takes {info.predicates[pred]} argument(s), "
+                f"got {len(args)} in {what}",
+                node,
+            )
+        self.terms(args, variables, names, what)
+
+    def terms(
+        self,
+        args: tuple[Node, ...],
+        variables: set[str] | None,
+        names: set[str] | dict[str, str],
+        what: str,
+    ) -> None:
+        for a in args:
+            if isinstance(a, SList):
+                raise self.fail(f"unexpected {show(a)} as an argument in {what}", a)
+            if a.text.startswith("?"):
+                if variables is None:
+                    raise self.fail(f"variable '{a.text}' in {what}", a)
+                if a.text not in variables:
+                    raise self.fail(f"undefined variable '{a.text}' in {what}", a)
+            elif a.text not in names:
+                kind = "constant" if variables is not None else "object"
+                raise self.fail(f"undefined {kind} '{a.text}' in {what}", a)
+
+    def equality_or_comparison(self, node: SList) -> PDDLError:
+        """``(= a b)``: equality of terms, or a numeric comparison when a side is a term."""
+        if any(isinstance(x, SList) or NUMBER_RE.fullmatch(x.text) for x in node.items[1:]):
+            return self.refuse("numeric comparison '='", node)
+        return self.refuse("equality '(= ...)'", node)
+
+    # -- domain --------------------------------------------------------------------------------
+
+    def domain(self, root: SList) -> DomainInfo:
+        info = DomainInfo()
+        _, info.name = self.header(root, "domain")
+        actions: list[SList] = []
+        flag_sections: list[SList] = []
+        for key, node in self.sections(root):
+            if len(node.items) == 1 and key in (
+                ":types",
+                ":constants",
+                ":predicates",
+                ":functions",
+            ):
+                # valid, but the library's grammar wants at least one entry: leave it out
+                info.edits.append((node.start, node.end, ""))
+            elif key == ":requirements":
+                info.requirements |= self.requirements(node)
+                flag_sections.append(node)
+            elif key == ":types":
+                self.types(node, info)
+            elif key == ":constants":
+                for tok, typ in self.typed_list(node.items[1:], ":constants"):
+                    info.constants[tok.text] = typ
+                    self.check_type(typ, info.types, tok, ":constants")
+            elif key == ":predicates":
+                self.predicates(node, info)
+            elif key == ":functions":
+                self.functions(node, info)
+            elif key == ":action":
+                actions.append(node)
+            elif key in REFUSED_SECTIONS:
+                raise self.refuse(REFUSED_SECTIONS[key], node)
+            else:
+                raise self.fail(f"unknown domain section '{key}'", node)
+        if len(flag_sections) == 1 and len(flag_sections[0].items) == 1:
+            # the flags come from the reading (PERMISSIVE_FLAGS in mega_sat.pddl.library), and
+            # the grammar wants at least one; a second section stays for the library to refuse
+            info.edits.append((flag_sections[0].start, flag_sections[0].end, ""))
+        seen: set[str] = set()
+        for node in actions:
+            name = self.action(node, info)
+            if name in seen:
+                raise self.fail(f"action '{name}' is defined twice", node)
+            seen.add(name)
+        return info
+
+    def types(self, node: SList, info: DomainInfo) -> None:
+        for tok, parent in self.typed_list(node.items[1:], ":types"):
+            t = tok.text
+            if t == "object":
+                if parent != "object":
+                    raise self.fail("type 'object' cannot have a supertype", tok)
+                continue
+            old = info.types.get(t, "object")
+            if old not in ("object", parent) and parent != "object":
+                raise self.fail(
+                    f"type '{t}' is declared with two supertypes ('{old}' and '{parent}')",
+                    tok,
+                )
+            if old == "object":  # a plain 'a b c' entry does not override 'a - t'
+                info.types[t] = parent
+            if parent != "object":
+                info.types.setdefault(parent, "object")
+        for t in info.types:  # cycles
+            seen, cur = {t}, info.types[t]
+            while cur != "object":
+                if cur in seen:
+                    raise self.fail(f"cycle in the type hierarchy through '{t}'", node)
+                seen.add(cur)
+                cur = info.types.get(cur, "object")
+
+    def predicates(self, node: SList, info: DomainInfo) -> None:
+        for p in node.items[1:]:
+            if not isinstance(p, SList) or p.head is None:
+                raise self.fail(f"malformed predicate declaration {show(p)}", p)
+            args = self.typed_list(p.items[1:], f"predicate '{p.head}'", either_ok=True)
+            if p.head in info.types:
+                raise self.fail(
+                    f"'{p.head}' is both a type and a predicate (types become predicates)", p
+                )
+            if p.head in info.predicates and info.predicates[p.head] != len(args):
+                raise self.fail(f"predicate '{p.head}' is declared twice", p)
+            info.predicates[p.head] = len(args)
+
+    def functions(self, node: SList, info: DomainInfo) -> None:
+        items = node.items[1:]
+        i = 0
+        while i < len(items):
+            f = items[i]
+            if isinstance(f, Tok) and f.text == "-":
+                t = items[i + 1] if i + 1 < len(items) else None
+                if not isinstance(t, Tok) or t.text != "number":
+                    raise self.refuse("non-numeric function (object fluents)", t or f)
+                i += 2
+                continue
+            if not isinstance(f, SList) or f.head is None:
+                raise self.fail(f"malformed function declaration {show(f)}", f)
+            args = self.typed_list(f.items[1:], f"function '{f.head}'", either_ok=True)
+            if f.head == "total-cost":
+                if args:
+                    raise self.fail("'total-cost' takes no arguments", f)
+                info.uses_total_cost = True
+            else:
+                info.functions[f.head] = len(args)
+            i += 1
+
+    def action(self, node: SList, info: DomainInfo) -> str:
+        items = node.items
+        if len(items) < 2 or not isinstance(items[1], Tok) or items[1].text.startswith(":"):
+            raise self.fail("expected an action name after ':action'", node)
+        name = items[1].text
+        what = f"action '{name}'"
+        parts: dict[str, Node] = {}
+        i = 2
+        while i < len(items):
+            key = items[i]
+            if not isinstance(key, Tok) or key.text not in (
+                ":parameters",
+                ":precondition",
+                ":effect",
+            ):
+                raise self.fail(f"unexpected {show(key)} in {what}", key)
+            if i + 1 >= len(items):
+                raise self.fail(f"missing value after '{key.text}' in {what}", key)
+            parts[key.text] = items[i + 1]
+            i += 2
+        self.complete_action(node, parts, info)
+        variables: set[str] = set()
+        params = parts.get(":parameters")
+        if params is not None:
+            if not isinstance(params, SList):
+                raise self.fail(f"expected a parameter list in {what}", params)
+            for tok, typ in self.typed_list(params.items, f"the parameters of {what}"):
+                if not tok.text.startswith("?"):
+                    raise self.fail(f"parameter '{tok.text}' of {what} must start with '?'", tok)
+                if tok.text in variables:
+                    raise self.fail(f"duplicate parameter '{tok.text}' in {what}", tok)
+                self.check_type(typ, info.types, tok, f"the parameters of {what}")
+                variables.add(tok.text)
+        pre = parts.get(":precondition")
+        if pre is not None:
+            self.condition(pre, info, variables, f"the precondition of {what}")
+        eff = parts.get(":effect")
+        if eff is not None and self.effect(eff, info, variables, f"the effect of {what}") > 1:
+            raise self.fail(f"more than one (increase (total-cost) ...) in {what}", eff)
+        return name
+
+    def complete_action(self, node: SList, parts: dict[str, Node], info: DomainInfo) -> None:
+        """Schedule inserting omitted parts: the library's grammar needs ``:parameters``, and the
+        parts in this order."""
+        name = node.items[1]
+        pos = name.end
+        missing = ""
+        for key, empty in ((":parameters", "()"), (":precondition", "(and)")):
+            if key in parts:
+                if missing:
+                    info.edits.append((pos, pos, missing))
+                    missing = ""
+                pos = parts[key].end
+            else:
+                missing += f" {key} {empty}"
+        if missing:
+            info.edits.append((pos, pos, missing))
+        if ":effect" not in parts:
+            info.edits.append((node.end - 1, node.end - 1, " :effect (and)"))
+
+    def condition(
+        self, node: Node, info: DomainInfo, variables: set[str], what: str, *, goal=False
+    ) -> None:
+        if not isinstance(node, SList):
+            raise self.fail(f"expected a condition in {what}, got {show(node)}", node)
+        head = node.head
+        if head == "and" or not node.items:
+            for sub in node.items[1:]:
+                self.condition(sub, info, variables, what, goal=goal)
+        elif head == "not":
+            if goal:
+                raise self.refuse("negative goal 'not'", node)
+            if len(node.items) != 2 or not isinstance(node.items[1], SList):
+                raise self.fail(f"malformed 'not' in {what}", node)
+            sub = node.items[1]
+            if sub.head == "=":
+                raise self.equality_or_comparison(sub)
+            if sub.head in KEYWORDS or sub.head is None:
+                raise self.refuse(f"negation of a compound condition '(not ({sub.head} ...))'", sub)
+            self.atom(sub, info, variables, info.constants, what)
+        elif head == "=":
+            raise self.equality_or_comparison(node)
+        elif head in CONDITION_REFUSALS:
+            construct = CONDITION_REFUSALS[head]
+            if goal and head in ("or", "imply", "forall", "exists"):
+                construct = f"non-conjunctive goal ({construct})"
+            raise self.refuse(construct, node)
+        else:
+            self.atom(node, info, variables, info.constants, what)
+
+    def effect(self, node: Node, info: DomainInfo, variables: set[str], what: str) -> int:
+        """Check an effect; return how many total-cost increases it has."""
+        if not isinstance(node, SList):
+            raise self.fail(f"expected an effect in {what}, got {show(node)}", node)
+        head = node.head
+        if head == "and" or not node.items:
+            return sum(self.effect(sub, info, variables, what) for sub in node.items[1:])
+        if head == "not":
+            if len(node.items) != 2 or not isinstance(node.items[1], SList):
+                raise self.fail(f"malformed 'not' in {what}", node)
+            sub = node.items[1]
+            if sub.head in KEYWORDS or sub.head is None:
+                raise self.fail(f"expected an atom inside 'not' in {what}", sub)
+            self.atom(sub, info, variables, info.constants, what)
+            return 0
+        if head == "increase":
+            self.increase(node, info, variables, what)
+            return 1
+        if head in EFFECT_REFUSALS:
+            raise self.refuse(EFFECT_REFUSALS[head], node)
+        self.atom(node, info, variables, info.constants, what)
+        return 0
+
+    def increase(self, node: SList, info: DomainInfo, variables: set[str], what: str) -> None:
+        if len(node.items) != 3:
+            raise self.fail(f"malformed 'increase' in {what}", node)
+        target, value = node.items[1], node.items[2]
+        if not (isinstance(target, SList) and target.head == "total-cost"):
+            raise self.refuse(
+                f"numeric effect 'increase' of {show(target)} (numeric fluents)", node
+            )
+        if not info.uses_total_cost:
+            raise self.fail("(total-cost) is used but not declared in :functions", node)
+        if ":action-costs" not in info.requirements:
+            raise self.fail("(increase (total-cost) ...) needs the requirement :action-costs", node)
+        if isinstance(value, Tok):
+            if not INT_RE.fullmatch(value.text) or value.text.startswith("-"):
+                raise self.refuse(
+                    f"action cost '{value.text}' (costs must be non-negative integers)", value
+                )
+            return
+        f = value.head
+        if f is None or f not in info.functions:
+            if f in ("+", "-", "*", "/"):
+                raise self.refuse(
+                    f"cost expression '({f} ...)' (only a number or a static function term)",
+                    value,
+                )
+            raise self.fail(f"undefined function '{f}' in {what}", value)
+        if len(value.items) - 1 != info.functions[f]:
+            raise self.fail(
+                f"function '{f}' takes {info.functions[f]} argument(s), "
+                f"got {len(value.items) - 1} in {what}",
+                value,
+            )
+        self.terms(value.items[1:], variables, info.constants, what)
