@@ -3,16 +3,20 @@
 
 from __future__ import annotations
 
+import ast
 import csv
 import json
 import re
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
 
-from mega_sat.bench.harness import (
-    bench_command,
+import mega_sat.bench
+from mega_sat.bench.harness import bench_command
+from mega_sat.bench.tables import (
     disagreements,
     fmt_seconds,
     fmt_speedup,
@@ -212,3 +216,37 @@ def test_smoke_suite_end_to_end(tmp_path):
     md = (out / "table.md").read_text()
     assert "usar-fetch/p1 astar" in md and "usar-fetch/p1 sat" in md
     assert "None where both engines finished" in md
+
+
+# --------------------------------------------------------------------------- layout
+
+BENCH = Path(mega_sat.bench.__file__).parent
+
+
+def test_bench_modules_import_only_public_names():
+    """The benchmark measures the engine through what it offers everyone: no bench module
+    imports a name with a leading underscore from another mega_sat module."""
+    private = []
+    for path in sorted(BENCH.glob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom) and (node.module or "").startswith("mega_sat"):
+                private += [
+                    f"{path.name}: {node.module}.{a.name}"
+                    for a in node.names
+                    if a.name.startswith("_") and a.name != "__future__"
+                ]
+    assert private == []
+
+
+def test_harness_runs_as_a_module():
+    """``python -m mega_sat.bench.harness`` is the command bench/README.md shows, and ``_run``
+    the worker every engine run is spawned as."""
+    for args, words in ((["--help"], "--suite"), (["_run", "--help"], "--robot-calls")):
+        r = subprocess.run(
+            [sys.executable, "-m", "mega_sat.bench.harness", *args],
+            capture_output=True,
+            text=True,
+            timeout=120,
+        )
+        assert r.returncode == 0, r.stderr
+        assert words in r.stdout
