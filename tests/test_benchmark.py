@@ -250,3 +250,47 @@ def test_harness_runs_as_a_module():
         )
         assert r.returncode == 0, r.stderr
         assert words in r.stdout
+
+
+# --------------------------------------------------------------------------- generation
+
+
+def _one_problem_domains(root: Path) -> Path:
+    """``root/usar-fetch`` with the shipped domain files and problem p1 only."""
+    import shutil
+
+    d = root / "usar-fetch"
+    (d / "p1").mkdir(parents=True)
+    for name in ("robot-domain.pddl", "human-domain.pddl"):
+        shutil.copyfile(DOMAINS / "usar-fetch" / name, d / name)
+    for name in ("robot-problem.pddl", "human-problem.pddl"):
+        src = DOMAINS / "usar-fetch" / "p1" / name
+        if src.is_file():
+            shutil.copyfile(src, d / "p1" / name)
+    return root
+
+
+@pytest.mark.skipif(not (DOMAINS / "usar-fetch" / "p1").is_dir(), reason="usar-fetch absent")
+def test_generate_suite_and_bench_generate_share_one_loop(tmp_path):
+    """``mega-sat generate-suite`` and ``mega-sat bench --generate`` draw the same instances
+    (same per-instance seeds); ``--generate`` passes over folders already there, the CLI
+    without --force reports them as not generated."""
+    from mega_sat.bench.suites import generate_missing
+    from mega_sat.cli.commands import main
+
+    cli_root = _one_problem_domains(tmp_path / "cli")
+    bench_root = _one_problem_domains(tmp_path / "bench")
+    r = CliRunner().invoke(main, ["generate-suite", str(cli_root), "--deltas", "2"])
+    assert r.exit_code == 0, r.output
+    assert "usar-fetch/delta/2/p1: |Delta| = 2" in r.output
+    log = generate_missing(bench_root, [2], seed=0)
+    assert [(g["domain"], g["problem"], g["delta"], g["status"]) for g in log] == [
+        ("usar-fetch", "p1", 2, "ok")
+    ]
+    for name in ("human-domain.pddl", "human-problem.pddl", "robot-problem.pddl"):
+        got = (bench_root / "usar-fetch/delta/2/p1" / name).read_text()
+        assert got == (cli_root / "usar-fetch/delta/2/p1" / name).read_text(), name
+    assert generate_missing(bench_root, [2], seed=0) == []
+    again = CliRunner().invoke(main, ["generate-suite", str(cli_root), "--deltas", "2"])
+    assert again.exit_code == 1
+    assert "skipped: file exists" in again.output
