@@ -294,3 +294,16 @@ def test_generate_suite_and_bench_generate_share_one_loop(tmp_path):
     again = CliRunner().invoke(main, ["generate-suite", str(cli_root), "--deltas", "2"])
     assert again.exit_code == 1
     assert "skipped: file exists" in again.output
+
+
+@pytest.mark.skipif(not (DOMAINS / "usar-fetch" / "p1").is_dir(), reason="usar-fetch absent")
+@pytest.mark.parametrize("engine", ["astar", "sat"])
+def test_a_run_stopped_by_its_limit_before_any_answer_is_a_timeout(engine):
+    """The engines raise TimeLimitReached when the limit comes before they have anything to
+    report; the record says ``timeout`` (the table's "> limit"), not ``error``."""
+    from mega_sat.bench.runner import run_engine
+
+    rec = run_engine(str(DOMAINS / "usar-fetch" / "p1"), engine, "builtin", 1e-6)
+    assert rec["status"] == "timeout", rec
+    assert "time limit" in rec["error"] and rec["seconds"] >= 0
+    assert fmt_seconds({**rec, "time_limit_s": 1e-6}).startswith("> ")

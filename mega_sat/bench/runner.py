@@ -42,6 +42,7 @@ def run_engine(
 ) -> dict[str, Any]:
     """One engine run on one task (inside the worker process): frontier + alpha = 1 answer."""
     from mega_sat.api import MegaSolver, load_task_dir
+    from mega_sat.deadline import TimeLimitReached
     from mega_sat.errors import UnsolvableError
     from mega_sat.results import choose
 
@@ -52,11 +53,11 @@ def run_engine(
     rec["delta_size"] = len(task.delta)
     solver = MegaSolver(task, engine=engine, planner=planner, timeout=time_limit)
     t1 = time.perf_counter()
-    fam = solver.family  # grounding, counted in ``seconds`` (the engine cannot run without it)
-    rec["ground_s"] = round(time.perf_counter() - t1, 4)
-    rec["ground_atoms"], rec["ground_actions"] = len(fam.atoms), len(fam.actions)
-    rec["planner_used"] = solver.planner  # the default configuration's choice when None
     try:
+        fam = solver.family  # grounding, counted in ``seconds`` (no engine runs without it)
+        rec["ground_s"] = round(time.perf_counter() - t1, 4)
+        rec["ground_atoms"], rec["ground_actions"] = len(fam.atoms), len(fam.actions)
+        rec["planner_used"] = solver.planner  # the default configuration's choice when None
         if engine == "sat":
             fr = solver.frontier()
             if not fr.points:  # stopped by the limit before the first point
@@ -71,11 +72,15 @@ def run_engine(
             sol = choose(fr, 1.0)
         else:
             sol = solver.solve(1.0)
-    except UnsolvableError as e:
-        # the astar engine raises when its time limit hit before any robot-executable node
+    except TimeLimitReached as e:
+        # the limit came before anything to report: for astar, before any node the robot can
+        # execute; for sat, before the robot optimum (a later stop returns a partial frontier)
         rec["seconds"] = round(time.perf_counter() - t1, 4)
-        timed_out = "time limit" in str(e)
-        rec.update(status="timeout" if timed_out else "error", error=str(e))
+        rec.update(status="timeout", error=str(e))
+        return rec
+    except UnsolvableError as e:
+        rec["seconds"] = round(time.perf_counter() - t1, 4)
+        rec.update(status="error", error=str(e))
         return rec
     rec["seconds"] = round(time.perf_counter() - t1, 4)
     fr = sol.frontier
