@@ -3,16 +3,20 @@
 
 from __future__ import annotations
 
+import ast
 import csv
 import json
 import re
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
 
-from mega_sat.bench.harness import (
-    bench_command,
+import mega_sat.bench
+from mega_sat.bench.harness import bench_command
+from mega_sat.bench.tables import (
     disagreements,
     fmt_seconds,
     fmt_speedup,
@@ -212,3 +216,94 @@ def test_smoke_suite_end_to_end(tmp_path):
     md = (out / "table.md").read_text()
     assert "usar-fetch/p1 astar" in md and "usar-fetch/p1 sat" in md
     assert "None where both engines finished" in md
+
+
+# --------------------------------------------------------------------------- layout
+
+BENCH = Path(mega_sat.bench.__file__).parent
+
+
+def test_bench_modules_import_only_public_names():
+    """The benchmark measures the engine through what it offers everyone: no bench module
+    imports a name with a leading underscore from another mega_sat module."""
+    private = []
+    for path in sorted(BENCH.glob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom) and (node.module or "").startswith("mega_sat"):
+                private += [
+                    f"{path.name}: {node.module}.{a.name}"
+                    for a in node.names
+                    if a.name.startswith("_") and a.name != "__future__"
+                ]
+    assert private == []
+
+
+def test_harness_runs_as_a_module():
+    """``python -m mega_sat.bench.harness`` is the command bench/README.md shows, and ``_run``
+    the worker every engine run is spawned as."""
+    for args, words in ((["--help"], "--suite"), (["_run", "--help"], "--robot-calls")):
+        r = subprocess.run(
+            [sys.executable, "-m", "mega_sat.bench.harness", *args],
+            capture_output=True,
+            text=True,
+            timeout=120,
+        )
+        assert r.returncode == 0, r.stderr
+        assert words in r.stdout
+
+
+# --------------------------------------------------------------------------- generation
+
+
+def _one_problem_domains(root: Path) -> Path:
+    """``root/usar-fetch`` with the shipped domain files and problem p1 only."""
+    import shutil
+
+    d = root / "usar-fetch"
+    (d / "p1").mkdir(parents=True)
+    for name in ("robot-domain.pddl", "human-domain.pddl"):
+        shutil.copyfile(DOMAINS / "usar-fetch" / name, d / name)
+    for name in ("robot-problem.pddl", "human-problem.pddl"):
+        src = DOMAINS / "usar-fetch" / "p1" / name
+        if src.is_file():
+            shutil.copyfile(src, d / "p1" / name)
+    return root
+
+
+@pytest.mark.skipif(not (DOMAINS / "usar-fetch" / "p1").is_dir(), reason="usar-fetch absent")
+def test_generate_suite_and_bench_generate_share_one_loop(tmp_path):
+    """``mega-sat generate-suite`` and ``mega-sat bench --generate`` draw the same instances
+    (same per-instance seeds); ``--generate`` passes over folders already there, the CLI
+    without --force reports them as not generated."""
+    from mega_sat.bench.suites import generate_missing
+    from mega_sat.cli.commands import main
+
+    cli_root = _one_problem_domains(tmp_path / "cli")
+    bench_root = _one_problem_domains(tmp_path / "bench")
+    r = CliRunner().invoke(main, ["generate-suite", str(cli_root), "--deltas", "2"])
+    assert r.exit_code == 0, r.output
+    assert "usar-fetch/delta/2/p1: |Delta| = 2" in r.output
+    log = generate_missing(bench_root, [2], seed=0)
+    assert [(g["domain"], g["problem"], g["delta"], g["status"]) for g in log] == [
+        ("usar-fetch", "p1", 2, "ok")
+    ]
+    for name in ("human-domain.pddl", "human-problem.pddl", "robot-problem.pddl"):
+        got = (bench_root / "usar-fetch/delta/2/p1" / name).read_text()
+        assert got == (cli_root / "usar-fetch/delta/2/p1" / name).read_text(), name
+    assert generate_missing(bench_root, [2], seed=0) == []
+    again = CliRunner().invoke(main, ["generate-suite", str(cli_root), "--deltas", "2"])
+    assert again.exit_code == 1
+    assert "skipped: file exists" in again.output
+
+
+@pytest.mark.skipif(not (DOMAINS / "usar-fetch" / "p1").is_dir(), reason="usar-fetch absent")
+@pytest.mark.parametrize("engine", ["astar", "sat"])
+def test_a_run_stopped_by_its_limit_before_any_answer_is_a_timeout(engine):
+    """The engines raise TimeLimitReached when the limit comes before they have anything to
+    report; the record says ``timeout`` (the table's "> limit"), not ``error``."""
+    from mega_sat.bench.runner import run_engine
+
+    rec = run_engine(str(DOMAINS / "usar-fetch" / "p1"), engine, "builtin", 1e-6)
+    assert rec["status"] == "timeout", rec
+    assert "time limit" in rec["error"] and rec["seconds"] >= 0
+    assert fmt_seconds({**rec, "time_limit_s": 1e-6}).startswith("> ")

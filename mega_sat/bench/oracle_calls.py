@@ -26,23 +26,21 @@ from typing import Any
 
 import click
 
-from mega_sat.bench.harness import (
-    _dispatch,
-    _domains_option,
-    _echo_files,
-    _errors_section,
-    _failure,
-    _fresh_option,
-    _output_files,
-    _pkey,
-    _previous,
-    _rss_mb,
-    _run_machine,
-    _run_worker,
-    _write_json,
-    discover,
-    write_csv,
-)
+from mega_sat.bench.common import dispatch as _dispatch
+from mega_sat.bench.common import domains_option as _domains_option
+from mega_sat.bench.common import echo_files as _echo_files
+from mega_sat.bench.common import errors_section as _errors_section
+from mega_sat.bench.common import failure_record as _failure
+from mega_sat.bench.common import fresh_option as _fresh_option
+from mega_sat.bench.common import output_files as _output_files
+from mega_sat.bench.common import peak_rss_mb as _rss_mb
+from mega_sat.bench.common import previous_results as _previous
+from mega_sat.bench.common import problem_key as _pkey
+from mega_sat.bench.common import run_machine_info as _run_machine
+from mega_sat.bench.common import run_worker as _run_worker
+from mega_sat.bench.common import write_csv
+from mega_sat.bench.common import write_json as _write_json
+from mega_sat.bench.suites import discover
 
 DEFAULT_TARGET = 0.5
 DEFAULT_CALL_LIMIT = 60.0

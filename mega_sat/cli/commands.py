@@ -1213,37 +1213,24 @@ def generate(run, robot_domain, robot_problem, k, seed, out_dir, time_budget, fo
 @_command
 def generate_suite(run, domains_dir, deltas, seed, time_budget, force):
     """Generate DOMAINS_DIR/<name>/delta/<K>/<problem>/ for every shipped problem."""
-    from mega_sat.bench.generate import instance_seed, write_instance
+    from mega_sat.bench import suites
 
     try:
         ks = [int(x) for x in deltas.split(",") if x.strip()]
     except ValueError:
         raise UsageError(f"--deltas must be comma-separated integers, got '{deltas}'") from None
     root = Path(domains_dir)
-    doms = sorted(d for d in root.iterdir() if (d / "robot-domain.pddl").is_file())
-    if not doms:
+    if not suites.domain_dirs(root):
         raise UsageError("no domain folders with robot-domain.pddl", path=domains_dir)
     failed = []
-    for d in doms:
-        for prob in sorted(p for p in d.iterdir() if (p / "robot-problem.pddl").is_file()):
-            for k in ks:
-                s = instance_seed(seed, d.name, prob.name, k)
-                out = d / "delta" / str(k) / prob.name
-                try:
-                    g = write_instance(
-                        d / "robot-domain.pddl",
-                        prob / "robot-problem.pddl",
-                        k,
-                        s,
-                        out,
-                        overwrite=force,
-                        time_budget=time_budget,
-                    )
-                except MegaSatError as e:
-                    failed.append(out)
-                    click.echo(f"{out}: skipped: {e.message}", err=True)
-                    continue
-                run.echo(f"{out}: |Delta| = {len(g.updates)}", final=False)
+    for draw in suites.generate_suite(root, ks, seed, overwrite=force, time_budget=time_budget):
+        if draw.generated is not None:
+            run.echo(f"{draw.out}: |Delta| = {len(draw.generated.updates)}", final=False)
+        elif isinstance(draw.error, MegaSatError):
+            failed.append(draw.out)
+            click.echo(f"{draw.out}: skipped: {draw.error.message}", err=True)
+        else:  # a bug, not a failed draw: stop as any other command does
+            raise draw.error
     if failed:
         click.echo(f"{len(failed)} instance(s) not generated", err=True)
         return EXIT_FAILED
