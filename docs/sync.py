@@ -8,6 +8,10 @@ A block to keep current looks like this in any ``.md`` file::
     ...output...
     ```
 
+A table generated from the code sits between ``<!-- table: NAME -->`` and
+``<!-- /table -->``; ``NAME`` is one of :data:`TABLES` (``options``: the knobs of
+``mega_sat.options.Options``).
+
 ``python docs/sync.py`` re-runs every such command from the repository root and rewrites each
 block whose output changed beyond its timings (blocks marked ``<!-- run (slow): ... -->`` only with ``--slow``: they take minutes); ``python docs/sync.py --check`` fails if any block differs from a fresh run (timings,
 memory and paths under /tmp are masked), so documented output cannot silently rot.
@@ -33,6 +37,8 @@ MASKS = [
     (re.compile(r'"time_s": [0-9.e-]+'), '"time_s": <T>'),
     (re.compile(r'"(\w*time\w*)": [0-9.e-]+'), r'"\1": <T>'),
 ]
+TABLE = re.compile(r"(<!-- table: (?P<name>[\w-]+) -->\n)(?P<body>.*?)(<!-- /table -->\n)", re.S)
+TABLES = {"options": "from mega_sat.options import markdown_table; print(markdown_table(), end='')"}
 _CLI = "import sys; sys.argv[0] = 'mega-sat'; from mega_sat.cli.commands import main; main()"
 DEFAULT_FILES = ["README.md", "docs/*.md", "domains/*/README.md"]
 
@@ -86,7 +92,18 @@ def sync(path: Path, check: bool, slow: bool = False) -> list[str]:
         stale.append(cmd)
         return f"{m.group(1)}```console\n{fresh}```\n"
 
-    new = BLOCK.sub(repl, text)
+    def table(m: re.Match) -> str:
+        name = m.group("name")
+        code = TABLES[name]
+        res = subprocess.run(
+            [sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, check=True
+        )
+        if res.stdout == m.group("body"):
+            return m.group(0)
+        stale.append(f"table {name}")
+        return f"{m.group(1)}{res.stdout}{m.group(4)}"
+
+    new = TABLE.sub(table, BLOCK.sub(repl, text))
     if not check and new != text:
         path.write_text(new)
     return stale

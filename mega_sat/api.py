@@ -28,6 +28,7 @@ from mega_sat.errors import UsageError
 from mega_sat.ground.family import GroundFamily
 from mega_sat.model.lifted import PlanStep
 from mega_sat.model.task import TwoModelTask
+from mega_sat.options import Options
 from mega_sat.pddl.loading import load_task, load_task_dir, load_task_from_strings
 from mega_sat.pddl.planio import as_plan
 from mega_sat.pddl.up_models import load_task_from_up
@@ -41,6 +42,7 @@ __all__ = [
     "ENGINES",
     "EXPLANATION_KINDS",
     "MegaSolver",
+    "Options",
     "default_joint",
     "default_planner",
     "explain",
@@ -98,6 +100,9 @@ class MegaSolver:
     sum of the costs instead of |E|, in the frontier, the objective, MCE and verification.  A
     name outside Delta or a cost that is not a positive integer is an
     :class:`~mega_sat.pddl.update_costs.UpdateCostError`.
+
+    ``options``: every tuning knob (:class:`mega_sat.options.Options`, e.g.
+    ``Options(quick_nodes=20_000)``); they change how fast an answer comes, never which.
     """
 
     def __init__(
@@ -112,6 +117,7 @@ class MegaSolver:
         joint: str | None = None,
         deadline: Deadline | None = None,
         update_costs: Mapping[str, int] | UpdateCosts | None = None,
+        options: Options | None = None,
     ):
         if not isinstance(task, TwoModelTask):
             raise UsageError(
@@ -128,6 +134,12 @@ class MegaSolver:
             )
         if hitting_set not in ("rc2", "ilp"):
             raise UsageError(f"unknown hitting-set solver {hitting_set!r} (choose rc2 or ilp)")
+        if options is None:
+            options = Options()
+        elif not isinstance(options, Options):
+            raise UsageError(
+                f"options must be a mega_sat.options.Options, got {type(options).__name__}"
+            )
         if deadline is None:
             deadline = Deadline.after(timeout)
         elif timeout is not None:
@@ -146,6 +158,7 @@ class MegaSolver:
         self._planner = planner
         self.hitting_set = hitting_set
         self.solver = solver
+        self.options = options
         self.deadline = deadline
         self.timeout = deadline.seconds
         self.progress = Progress()
@@ -179,6 +192,8 @@ class MegaSolver:
         from mega_sat.sat.oracles import SatOracles
 
         family = self.family
+        # after the sat rewrite: SatOracles(family, solver=, options=self.options,
+        # deadline=self.deadline), and no set_deadline
         orc = SatOracles(family, solver=self.solver)
         if self.deadline.limited:
             orc.set_deadline(self.deadline.at)
@@ -205,6 +220,7 @@ class MegaSolver:
                     deadline=self.deadline,
                     progress=self.progress,
                     update_costs=self.update_costs,
+                    options=self.options,
                 )
             else:
                 from mega_sat.engines.astar import astar_frontier
@@ -217,6 +233,7 @@ class MegaSolver:
                     deadline=self.deadline,
                     progress=self.progress,
                     update_costs=self.update_costs,
+                    options=self.options,
                 )
         return self._frontier
 
@@ -240,7 +257,8 @@ class MegaSolver:
     def solve(self, alpha: float) -> Solution:
         """MEGA's answer for one alpha.
 
-        ``sat``: the frontier point minimising the objective (SPEC tie-breaking).  ``astar``:
+        ``sat``: the frontier point minimising the objective (ties: lower robot cost, then the
+        smaller explanation, :func:`mega_sat.results.choose`).  ``astar``:
         the minimum node of the paper's Algorithm 1 run with this alpha.
         """
         alpha = _check_alpha(alpha)
@@ -257,6 +275,7 @@ class MegaSolver:
             deadline=self.deadline,
             progress=self.progress,
             update_costs=self.update_costs,
+            options=self.options,
         )
 
     def explain(self, plan: Sequence[PlanStep] | None = None, kind: str = "mce") -> Explanation:
@@ -282,6 +301,7 @@ class MegaSolver:
             deadline=self.deadline,
             progress=self.progress,
             update_costs=self.update_costs,
+            options=self.options,
         )
 
     def verify(
@@ -329,6 +349,7 @@ class MegaSolver:
             deadline=self.deadline,
             update_costs=self.update_costs,
             explanation_cost=reported,
+            options=self.options,
         )
         if isinstance(point, Explanation) and point.kind == "mme":
             from dataclasses import replace
@@ -343,6 +364,7 @@ class MegaSolver:
                 checker=checker_for(prod),
                 oracles=reuse,
                 deadline=self.deadline,
+                options=self.options,
             )
             if isinstance(extra, str):
                 return replace(report, skipped=(*report.skipped, extra))
@@ -372,5 +394,5 @@ def verify(
     task: TwoModelTask, point: FrontierPoint | Explanation | None = None, **kw
 ) -> VerifyReport:
     """Independent check of an answer (see :mod:`mega_sat.engines.verify`)."""
-    solver_kw = {k: kw.pop(k) for k in ("engine", "planner", "update_costs") if k in kw}
+    solver_kw = {k: kw.pop(k) for k in ("engine", "planner", "update_costs", "options") if k in kw}
     return MegaSolver(task, **solver_kw).verify(point, **kw)

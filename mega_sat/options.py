@@ -65,7 +65,30 @@ class Options:
     )
     core_search_factor: float = field(
         default=3.0,
-        metadata={"doc": "explicit JOINT search gets this many times OPT's seconds"},
+        metadata={
+            "doc": "the searches that shrink an unsolvable model's exclusion get this many "
+            "times the seconds OPT took to prove it unsolvable"
+        },
+    )
+    unsolvable_core_min_seconds: float = field(
+        default=0.05,
+        metadata={"doc": "seconds those searches get at least, however fast OPT was"},
+    )
+    unsolvable_core_nodes: int = field(
+        default=2000,
+        metadata={"doc": "nodes of each of those searches (one per update tried)"},
+    )
+    portfolio_conflicts: int = field(
+        default=5000,
+        metadata={"doc": "first SAT conflict budget of a JOINT call under --joint portfolio"},
+    )
+    portfolio_min_conflicts: int = field(
+        default=1000,
+        metadata={"doc": "the portfolio's budget halves, down to this, while search wins"},
+    )
+    portfolio_max_conflicts: int = field(
+        default=160_000,
+        metadata={"doc": "the portfolio's budget doubles, up to this, while SAT wins"},
     )
     joint_core_factor: float = field(
         default=2.0,
@@ -77,7 +100,15 @@ class Options:
     )
     blind_nodes: int = field(
         default=300_000,
-        metadata={"doc": "nodes of the blind search before solve_optimal switches to LM-cut"},
+        metadata={
+            "doc": "nodes of the built-in planner's blind search before it switches to LM-cut"
+        },
+    )
+    superset_check_limit: int = field(
+        default=64,
+        metadata={
+            "doc": "most strict supersets of an MME that verification re-plans, else skipped"
+        },
     )
 
     @classmethod
@@ -116,6 +147,14 @@ def _parse(key: str, kind: str, text: str) -> object:
     if not value > 0:
         raise UsageError(f"--option {key}={text}: must be positive")
     return value
+
+
+def markdown_table() -> str:
+    """The knobs as the Markdown table of docs/cli.md ("Tuning options"), which
+    ``docs/sync.py`` keeps current."""
+    rows = ["| option | default | what it does |", "|---|---|---|"]
+    rows += [f"| `{name}` | `{default}` | {doc} |" for name, default, doc in Options.docs()]
+    return "\n".join(rows) + "\n"
 
 
 DEFAULT = Options()

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import heapq
+import time
 
 import pytest
 from helpers.randomtasks import models, selections, two_model_tasks
@@ -10,10 +11,12 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from mega_sat.analysis.relaxation import RelaxedTask
+from mega_sat.deadline import Deadline
 from mega_sat.ground.family import GroundTask, StripsAction
 from mega_sat.ground.grounding import ground, ground_model
 from mega_sat.ground.simulate import simulate_ground
-from mega_sat.search.astar import HEURISTICS, astar
+from mega_sat.search.astar import HEURISTICS, astar, solve_optimal
+from mega_sat.status import Status
 
 
 def dijkstra(task: GroundTask) -> int | None:
@@ -136,9 +139,9 @@ def test_unsolvable_and_limits():
     r = astar(no_way)
     assert r.status == "unsolvable" and r.expanded == 0  # h is infinite at the start
     r = astar(chain(30, True), heuristic="blind", node_limit=3)
-    assert r.status == "timeout" and r.plan is None and r.expanded == 3
-    r = astar(chain(30, True), heuristic="blind", time_limit=0.0)
-    assert r.status == "timeout"
+    assert r.status is Status.LIMIT and r.plan is None and r.expanded == 3 and not r.exact
+    r = astar(chain(30, True), heuristic="blind", deadline=Deadline(time.perf_counter()))
+    assert r.status is Status.TIMEOUT and r.status == "timeout" and r.reason == "timeout"
     with pytest.raises(ValueError):
         astar(gt, heuristic="ff")
 
@@ -227,3 +230,14 @@ def test_lmcut_admissible_on_a_shipped_family():
             assert h <= r.cost, (sorted(sel), h, r.cost)
         else:
             assert r.status == "unsolvable"
+
+
+def test_solve_optimal_switches_to_lmcut_after_blind_nodes():
+    """``blind_nodes`` (Options.blind_nodes) is where the portfolio gives up on blind search;
+    the answer is the same optimum either way."""
+    task = chain(12, True)
+    blind = solve_optimal(task)
+    both = solve_optimal(task, blind_nodes=2)
+    assert blind.planner == "builtin-astar(blind)" and both.planner == "builtin(blind+lmcut)"
+    assert (blind.status, blind.cost) == (both.status, both.cost) == (Status.OPTIMAL, blind.cost)
+    assert both.exact and both.expanded > 2

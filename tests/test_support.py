@@ -8,6 +8,7 @@ from helpers.sat_families import agreeing, dijkstra, families, selections
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
+from mega_sat.deadline import Deadline
 from mega_sat.engines.support import unsolvable_core
 
 SETTINGS = settings(
@@ -23,11 +24,11 @@ SETTINGS = settings(
 )
 def test_unsolvable_core_rules_out_only_unsolvable_models(fam, data, stop):
     """Every selection agreeing with ``selection`` on the returned updates has no plan (brute
-    force); with ``stop_at`` already passed nothing is tried, so every update stays."""
+    force); with the deadline already passed nothing is tried, so every update stays."""
     sel = data.draw(selections(fam.n_updates))
     assume(dijkstra(fam.specialize(sel)) is None)
-    stop_at = None if stop is None else time.perf_counter()
-    core = unsolvable_core(fam, sel, search_seconds=1.0, stop_at=stop_at)
+    deadline = None if stop is None else Deadline(time.perf_counter())
+    core = unsolvable_core(fam, sel, search_seconds=1.0, deadline=deadline)
     if stop is not None:
         assert core is None
         return

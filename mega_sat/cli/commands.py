@@ -371,6 +371,25 @@ def task_options(fn):
     return fn
 
 
+def options_option(fn):
+    """``--option KEY=VALUE`` (repeatable): a tuning knob of :class:`mega_sat.options.Options`."""
+    return click.option(
+        "--option",
+        "option_pairs",
+        multiple=True,
+        metavar="KEY=VALUE",
+        help="Set a tuning knob (repeatable; the knobs and their defaults are listed in "
+        "docs/cli.md, 'Tuning options').  Answers do not change, only how fast they come.",
+    )(fn)
+
+
+def _options(kw):
+    """The ``--option`` pairs of a command (removed from ``kw``) as one Options."""
+    from mega_sat.options import Options
+
+    return Options().with_pairs(kw.pop("option_pairs", ()))
+
+
 def _load(task_dir, robot_domain, robot_problem, human_domain, human_problem):
     from mega_sat.pddl.loading import load_task, resolve_task_dir
 
@@ -568,6 +587,7 @@ def _ground(task, run, verbose=False):
 @click.option("--out", "out", type=click.Path(), default=None, help="Write the plan file.")
 @click.option("--force", is_flag=True, help="Overwrite --out.")
 @click.option("--json", "as_json", is_flag=True)
+@options_option
 @_command
 def plan(run, domain, problem, model, explanation, planner, out, force, as_json, verbose, **kw):
     """Optimal plan of one model (IPC plan format)."""
@@ -576,11 +596,12 @@ def plan(run, domain, problem, model, explanation, planner, out, force, as_json,
     from mega_sat.pddl.planio import format_plan, write_plan
     from mega_sat.planners.node_planner import NodePlanner
 
+    options = _options(kw)
     if out:
         check_target(out, force=force)  # before planning, not after
     task, sel = _single_or_family(domain, problem, kw, model, explanation)
     fam = _ground(task, run, verbose)
-    r = NodePlanner(task, fam, planner, deadline=run.deadline).optimal(sel)
+    r = NodePlanner(task, fam, planner, deadline=run.deadline, options=options).optimal(sel)
     where = problem or (
         task.sources.get("robot_problem")
         if sel == task.all_updates
@@ -757,6 +778,7 @@ def engine_options(fn):
         ),
         click.option("--hitting-set", type=HITTING, default="rc2", show_default=True),
         update_costs_option,
+        options_option,
         click.option("--json", "as_json", is_flag=True, help="Print one JSON object."),
         click.option(
             "--verify", "do_verify", is_flag=True, help="Check every returned pair independently."
@@ -791,7 +813,10 @@ def _solver(kw, run):
 
     engine_kw = {k: kw.pop(k) for k in ("engine", "planner", "joint", "hitting_set")}
     costs = _read_update_costs(kw.pop("update_costs"))
-    s = MegaSolver(_task_from(kw), deadline=run.deadline, update_costs=costs, **engine_kw)
+    options = _options(kw)
+    s = MegaSolver(
+        _task_from(kw), deadline=run.deadline, update_costs=costs, options=options, **engine_kw
+    )
     run.watch(s.progress)
     return s
 
@@ -1054,6 +1079,7 @@ def frontier(run, as_json, do_verify, write_model, force, verbose, plot=None, **
 @click.option("--json", "as_json", is_flag=True)
 @click.option("--verify", "do_verify", is_flag=True)
 @quiet_option
+@options_option
 @_command
 def explain(
     run, plan_file, planner, hitting_set, update_costs, mme, as_json, do_verify, verbose, **kw
@@ -1065,6 +1091,7 @@ def explain(
     from mega_sat.pddl.planio import read_plan
 
     costs = _read_update_costs(update_costs)
+    options = _options(kw)
     task = _task_from(kw)
     steps = read_plan(plan_file) if plan_file else None
     s = MegaSolver(
@@ -1073,6 +1100,7 @@ def explain(
         hitting_set=hitting_set,
         deadline=run.deadline,
         update_costs=costs,
+        options=options,
     )
     run.watch(s.progress)
     _verbose_family(s, verbose)
@@ -1129,6 +1157,7 @@ def explain(
 )
 @update_costs_option
 @click.option("--json", "as_json", is_flag=True)
+@options_option
 @_command
 def verify(run, explanation, plan_file, checker, update_costs, as_json, verbose, **kw):
     """Check a plan + explanation pair from files."""
@@ -1137,6 +1166,7 @@ def verify(run, explanation, plan_file, checker, update_costs, as_json, verbose,
     from mega_sat.pddl.update_costs import cost_vector
 
     costs = _read_update_costs(update_costs)
+    options = _options(kw)
     task = _task_from(kw)
     costs = cost_vector(task, costs)
     sel = _read_explanation(task, explanation)
@@ -1151,6 +1181,7 @@ def verify(run, explanation, plan_file, checker, update_costs, as_json, verbose,
         checker=checker,
         deadline=run.deadline,
         update_costs=costs,
+        options=options,
     )
     if as_json:
         run.echo_json(rep.to_dict())
@@ -1276,6 +1307,7 @@ def generate_suite(run, domains_dir, deltas, seed, time_budget, force):
 @click.option("--verify", "do_verify", is_flag=True, help="Verify every point (frontier --verify).")
 @click.option("--force", is_flag=True, help="Start --out afresh instead of resuming it.")
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON.")
+@options_option
 @_command
 def batch(run, dirs, out, jobs, scheduler, task_timeout, as_json, force, **kw):
     """frontier on many task folders, one JSON line per task, resumable."""
@@ -1285,6 +1317,10 @@ def batch(run, dirs, out, jobs, scheduler, task_timeout, as_json, force, **kw):
     options = frontier_options(kw["engine"], kw["planner"], kw["hitting_set"], kw["do_verify"])
     if kw["joint"] is not None:
         options += ("--joint", kw["joint"])
+    pairs = kw.pop("option_pairs", ())
+    _options({"option_pairs": pairs})  # a bad pair stops the batch before any task runs
+    for pair in pairs:
+        options += ("--option", pair)
 
     def progress(line, summary):
         r = line["result"]

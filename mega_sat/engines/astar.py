@@ -28,9 +28,11 @@ from mega_sat.errors import UnsolvableError
 from mega_sat.ground.family import GroundFamily
 from mega_sat.ground.simulate import simulate_ground
 from mega_sat.model.task import TwoModelTask
+from mega_sat.options import DEFAULT, Options
 from mega_sat.pddl.update_costs import explanation_cost
-from mega_sat.planners.node_planner import NodePlanner
+from mega_sat.planners.node_planner import NodePlanner, require_robot_plan
 from mega_sat.results import Frontier, FrontierPoint, Solution, exact_alpha, pareto_filter
+from mega_sat.status import Status
 
 DISCLAIMER = (
     "A* baseline: each model is judged by one optimal plan of its planner; ties "
@@ -70,11 +72,7 @@ class _Search:
         self.timed_out = False
 
         r = planner.optimal(family.robot_selection)
-        src = task.sources.get("robot_problem", "robot problem")
-        if r.status == "unsolvable":
-            raise UnsolvableError("the robot problem has no plan", path=src)
-        if r.status != "optimal":
-            raise UnsolvableError(f"no plan found for the robot problem ({r.reason})", path=src)
+        require_robot_plan(task, r)
         self.c_robot = r.cost
         self.exact_planner &= r.exact
         self.progress.robot_optimal_cost = r.cost
@@ -118,7 +116,7 @@ class _Search:
             rc = hc = None
             obj = math.inf
             plan = ()
-            if r.status == "optimal":
+            if r.status == Status.OPTIMAL:
                 plan, hc = r.plan, r.cost
                 sim = simulate_ground(self.robot_task, plan)
                 if sim.valid:
@@ -181,14 +179,16 @@ def astar_solve(
     deadline: Deadline | None = None,
     progress: Progress | None = None,
     update_costs: tuple[int, ...] | None = None,
+    options: Options = DEFAULT,
 ) -> Solution:
     """Algorithm 1 for one ``alpha``: the paper's answer, with the explored nodes as frontier.
 
     ``deadline`` (or ``timeout`` seconds from now): the search stops there with the best node
     so far; before any node the robot can execute it raises :class:`TimeLimitReached`.
-    ``update_costs``: a cost per update; the queue is then keyed by cost(E) instead of |E|."""
+    ``update_costs``: a cost per update; the queue is then keyed by cost(E) instead of |E|.
+    Every per-node planner call runs within ``deadline``, with the knobs of ``options``."""
     deadline = deadline if deadline is not None else Deadline.after(timeout)
-    np_ = NodePlanner(task, family, planner, oracles=oracles, deadline=deadline)
+    np_ = NodePlanner(task, family, planner, oracles=oracles, deadline=deadline, options=options)
     s = _Search(task, family, np_, progress, update_costs)
     sel, plan, rc, hc, obj = s.run(alpha)
     fr = s.frontier()
@@ -210,11 +210,12 @@ def astar_frontier(
     deadline: Deadline | None = None,
     progress: Progress | None = None,
     update_costs: tuple[int, ...] | None = None,
+    options: Options = DEFAULT,
 ) -> Frontier:
     """Paper property 4: one MEGA-Search, its explored nodes re-scored for every alpha
-    (``deadline``, ``timeout``, ``update_costs``: as for :func:`astar_solve`)."""
+    (``deadline``, ``timeout``, ``update_costs``, ``options``: as for :func:`astar_solve`)."""
     deadline = deadline if deadline is not None else Deadline.after(timeout)
-    np_ = NodePlanner(task, family, planner, oracles=oracles, deadline=deadline)
+    np_ = NodePlanner(task, family, planner, oracles=oracles, deadline=deadline, options=options)
     s = _Search(task, family, np_, progress, update_costs)
     s.run(0.0)
     return s.frontier()

@@ -120,6 +120,9 @@ class ILPHittingSet(HittingSetSolver):
             for c in self.clauses:
                 prob += pulp.lpSum(x[i] if v else 1 - x[i] for i, v in c) >= 1
         status = solve_cbc(prob, time_limit=self.deadline.remaining(), gapRel=0)
+        if self.deadline.expired() and prob.sol_status != pulp.LpSolutionOptimal:
+            # CBC cut short may call the problem infeasible: that is no proof
+            raise TimeLimitReached(self.deadline.seconds)
         if status == pulp.LpStatusInfeasible:
             return None
         if status == pulp.LpStatusOptimal and prob.sol_status == pulp.LpSolutionOptimal:

@@ -18,14 +18,16 @@ from mega_sat.deadline import Deadline
 from mega_sat.engines.hitting_set import make_hitting_set
 from mega_sat.engines.progress import Progress
 from mega_sat.engines.support import exclusion_clause, support, tight_support
-from mega_sat.errors import UnsolvableError, UsageError
+from mega_sat.errors import PlannerError, UsageError
 from mega_sat.ground.family import GroundFamily
 from mega_sat.ground.simulate import simulate, simulate_ground
 from mega_sat.model.lifted import PlanStep
 from mega_sat.model.task import TwoModelTask
+from mega_sat.options import DEFAULT, Options
 from mega_sat.pddl.update_costs import explanation_cost
-from mega_sat.planners.node_planner import NodePlanner
+from mega_sat.planners.node_planner import NodePlanner, require_robot_plan
 from mega_sat.results import Explanation
+from mega_sat.status import Status
 
 
 def minimal_explanation(
@@ -40,6 +42,7 @@ def minimal_explanation(
     deadline: Deadline | None = None,
     progress: Progress | None = None,
     update_costs: tuple[int, ...] | None = None,
+    options: Options = DEFAULT,
 ) -> Explanation:
     """Smallest ``E`` making ``plan`` (default: a robot-optimal plan) optimal in ``human + E``
     (with ``update_costs``: the cheapest by the sum of its updates' costs).
@@ -47,24 +50,18 @@ def minimal_explanation(
     Stops at ``deadline`` (or ``timeout`` seconds from now) with
     :class:`~mega_sat.deadline.TimeLimitReached`: a candidate that is not the smallest proves
     nothing, so there is no partial answer.  ``progress`` shows each candidate as it is
-    checked (for a live display)."""
+    checked (for a live display); ``options``: the tuning knobs of the planner."""
     t0 = time.perf_counter()
     progress = progress if progress is not None else Progress()
     progress.start("mce", tuple(u.name for u in task.delta))
     deadline = deadline if deadline is not None else Deadline.after(timeout)
-    np_ = NodePlanner(task, family, planner, oracles=oracles, deadline=deadline)
+    np_ = NodePlanner(task, family, planner, oracles=oracles, deadline=deadline, options=options)
     notes: list[str] = []
     exact = True
-    robot_src = task.sources.get("robot_problem", "robot problem")
+    undecided = 0  # candidates excluded without a proof
     if plan is None:
         r = np_.optimal(family.robot_selection)
-        if r.status != "optimal":
-            raise UnsolvableError(
-                "the robot problem has no plan"
-                if r.status == "unsolvable"
-                else f"no plan found for the robot problem ({r.reason})",
-                path=robot_src,
-            )
+        require_robot_plan(task, r)
         plan = r.plan
         exact &= r.exact
     plan = tuple(tuple(s) for s in plan)
@@ -78,6 +75,13 @@ def minimal_explanation(
             deadline.check()
             sel = hs.minimum()
             if sel is None:
+                # time running out is never the plan's fault: report it as such
+                deadline.check()
+                if undecided:
+                    raise PlannerError(
+                        f"no explanation found: the optimum of {undecided} candidate "
+                        f"model(s) was not decided ({'; '.join(dict.fromkeys(notes))})"
+                    )
                 raise UsageError(
                     "no explanation makes this plan optimal in the human's model "
                     "(it is not optimal in the robot model either)"
@@ -91,9 +95,11 @@ def minimal_explanation(
                 continue
             opt = np_.optimal(sel)
             calls["opt_calls"] += 1
-            if opt.status != "optimal":
+            if opt.status != Status.OPTIMAL:
                 # the plan itself runs, so the model has a plan: this is an undecided call
+                deadline.check()
                 exact = False
+                undecided += 1
                 notes.append(f"optimal cost of a candidate model not found: {opt.reason}")
                 hs.add(exclusion_clause(sel, range(len(task.delta))))
                 continue

@@ -29,14 +29,16 @@ from mega_sat.deadline import Deadline
 from mega_sat.engines.hitting_set import make_hitting_set
 from mega_sat.engines.progress import Progress
 from mega_sat.engines.support import support, tight_support
-from mega_sat.errors import PlannerError, UnsolvableError, UsageError
+from mega_sat.errors import PlannerError, UsageError
 from mega_sat.ground.family import GroundFamily, Guard
 from mega_sat.ground.simulate import simulate, simulate_ground
 from mega_sat.model.lifted import PlanStep
 from mega_sat.model.task import TwoModelTask
+from mega_sat.options import DEFAULT, Options
 from mega_sat.pddl.update_costs import explanation_cost
-from mega_sat.planners.node_planner import NodePlanner
+from mega_sat.planners.node_planner import NodePlanner, require_robot_plan
 from mega_sat.results import Explanation
+from mega_sat.status import Status
 
 
 @dataclass(frozen=True)
@@ -397,6 +399,7 @@ def minimally_monotonic_explanation(
     deadline: Deadline | None = None,
     progress: Progress | None = None,
     update_costs: tuple[int, ...] | None = None,
+    options: Options = DEFAULT,
 ) -> Explanation:
     """Smallest ``E`` such that ``plan`` (default: a robot-optimal plan) is optimal in
     ``human + E'`` for every ``E <= E' <= Delta`` (with ``update_costs``: the cheapest by the
@@ -406,21 +409,14 @@ def minimally_monotonic_explanation(
     A plan that is not optimal in the robot model (``human + Delta``) has no MME and is
     refused with its cost and the robot optimum.  Stops at ``deadline`` (or ``timeout``
     seconds from now) with :class:`~mega_sat.deadline.TimeLimitReached`: like MCE there is no
-    partial answer."""
+    partial answer.  ``options``: the tuning knobs of the planner."""
     t0 = time.perf_counter()
     progress = progress if progress is not None else Progress()
     progress.start("mme", tuple(u.name for u in task.delta))
     deadline = deadline if deadline is not None else Deadline.after(timeout)
-    np_ = NodePlanner(task, family, planner, oracles=oracles, deadline=deadline)
-    robot_src = task.sources.get("robot_problem", "robot problem")
+    np_ = NodePlanner(task, family, planner, oracles=oracles, deadline=deadline, options=options)
     r = np_.optimal(family.robot_selection)
-    if r.status != "optimal":
-        raise UnsolvableError(
-            "the robot problem has no plan"
-            if r.status == "unsolvable"
-            else f"no plan found for the robot problem ({r.reason})",
-            path=robot_src,
-        )
+    require_robot_plan(task, r)
     if plan is None:
         plan = r.plan
     plan = tuple(tuple(s) for s in plan)
@@ -449,7 +445,7 @@ def minimally_monotonic_explanation(
         if not use_opt:
             return None
         opt = np_.optimal(sel)
-        if opt.status == "optimal" and opt.cost < sim.cost:
+        if opt.status == Status.OPTIMAL and opt.cost < sim.cost:
             hints.append(opt.plan)
             return Evidence(
                 sel, opt.plan, cost_guards | _indices(tight_support(family, sel, opt.plan))
@@ -482,6 +478,7 @@ def minimally_monotonic_explanation(
             if sel is not None:
                 progress.step(len(sel))
             if sel is None:
+                deadline.check()  # time running out is never the plan's fault
                 # only a witness at Delta itself empties a clause: a cheaper robot plan
                 found = cheaper_superset(family, plan, family.robot_selection, deadline)
                 robot = family.specialize(family.robot_selection)

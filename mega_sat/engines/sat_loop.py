@@ -27,18 +27,19 @@ from mega_sat.engines.progress import Progress, lower_bound_note
 from mega_sat.engines.support import exclusion_clause, tight_support, unsolvable_core
 from mega_sat.ground.family import GroundFamily
 from mega_sat.model.task import TwoModelTask
+from mega_sat.options import DEFAULT, Options
 from mega_sat.pddl.update_costs import explanation_cost
 from mega_sat.planners.tiered_opt import TieredOpt
 from mega_sat.results import Frontier, FrontierPoint, pareto_filter
 from mega_sat.search.joint import JointSearcher, search_joint
+from mega_sat.status import Status
 
 
 def default_planner(engine: str, family: GroundFamily) -> str:
     """``builtin`` for ``astar`` (the paper's per-node planner) and for tasks with zero-cost
-    actions; else ``sat``.  The SAT OPT oracle is the faster one where models get hard:
-    ``mega-sat frontier`` on rover-martian Δ=7 p3 takes 1.24 s with SAT OPT and JOINT against
-    15.7 s with the built-in planner and the portfolio, blocksworld Δ=10 p3 1.4 s against 27 s
-    (docs/benchmarks.md, "Engine defaults")."""
+    actions; else ``sat``.  The SAT OPT oracle is the faster one where models get hard, by an
+    order of magnitude on the larger shipped instances (docs/benchmarks.md, "Engine
+    defaults")."""
     if engine != "sat" or family.min_cost <= 0:
         return "builtin"
     return "sat"
@@ -61,10 +62,10 @@ def sat_frontier(
     timeout: float | None = None,
     joint: str | None = None,
     joint_conflict_budget: int | None = None,
-    core_search_factor: float = 3.0,
     deadline: Deadline | None = None,
     progress: Progress | None = None,
     update_costs: tuple[int, ...] | None = None,
+    options: Options = DEFAULT,
 ) -> Frontier:
     """Compute the Pareto frontier of MEGA solutions with the hitting-set loop.
 
@@ -79,9 +80,13 @@ def sat_frontier(
     conflicts per call, adaptive when None (see :class:`_Budget`), then the search if it is
     undecided).  All three are exact.  ``None``: :func:`default_joint`.
 
-    OPT goes through :class:`mega_sat.planners.tiered_opt.TieredOpt` (cheap proofs first, ``planner``
-    last).  ``core_search_factor``: unsolvable candidate models are generalised by searches on
-    abstractions for up to this many times the time OPT took to prove them unsolvable.
+    OPT goes through :class:`mega_sat.planners.tiered_opt.TieredOpt` (cheap proofs first,
+    ``planner`` last).  Unsolvable candidate models are generalised by searches on
+    abstractions for up to ``options.core_search_factor`` times the time OPT took to prove
+    them unsolvable.  ``options`` holds every tuning knob (:class:`mega_sat.options.Options`).
+
+    ``oracles``: live SAT oracles of ``family``, which the caller has given the same
+    ``deadline``; without them the loop makes its own.
 
     ``deadline`` (or ``timeout`` seconds from now) makes the loop anytime: at the deadline it
     returns the points proven so far, marked incomplete, with a lower bound on cost(E) of the
@@ -99,41 +104,47 @@ def sat_frontier(
         from mega_sat.errors import UsageError
 
         raise UsageError(f"unknown JOINT method {joint!r} (choose from {', '.join(JOINT_METHODS)})")
-    from mega_sat.planners.node_planner import NodePlanner
+    from mega_sat.planners.node_planner import NodePlanner, require_robot_plan
     from mega_sat.sat.oracles import OracleInterrupted, SatOracles
 
     t0 = time.perf_counter()
     if deadline is None:
         deadline = Deadline.after(timeout)
-    stop_at = deadline.at  # a time.perf_counter() value, or None
     progress = progress if progress is not None else Progress()
     progress.start("sat", tuple(u.name for u in task.delta), update_costs)
-    orc = oracles if oracles is not None else SatOracles(family, solver=solver)
-    earlier_deadline = getattr(orc, "deadline", None)
-    if stop_at is not None and hasattr(orc, "set_deadline"):
-        orc.set_deadline(stop_at)  # interrupts a SAT call still running at the deadline
-    # the explicit planners get what is left of the time limit (the SAT oracle has the deadline
-    # itself); a planner call cut by the deadline raises TimeLimitReached
-    opt_planner = NodePlanner(task, family, planner, oracles=orc, deadline=deadline)
-    tiered = TieredOpt(family, opt_planner)
+    orc = oracles
+    if orc is None:
+        # after the sat rewrite: SatOracles(family, solver=, options=options, deadline=deadline)
+        orc = SatOracles(family, solver=solver)
+        if deadline.limited:
+            orc.set_deadline(deadline.at)  # interrupts a SAT call still running at the deadline
+    # every planner call runs within the deadline; one it cuts short raises TimeLimitReached
+    opt_planner = NodePlanner(
+        task, family, planner, oracles=orc, deadline=deadline, options=options
+    )
+    tiered = TieredOpt(family, opt_planner, options=options)
     notes = progress.notes
     exact = True
+    sat_opt = None  # the SAT OPT oracle, for the models the explicit planners leave undecided
 
     def opt_of(sel):
+        nonlocal sat_opt
         r = tiered.optimal(sel)
-        if r.status == "unknown" and planner != "sat":
-            r = NodePlanner(task, family, "sat", oracles=orc, deadline=deadline).optimal(sel)
+        if not r.status.decided and planner != "sat":
+            if sat_opt is None:
+                sat_opt = NodePlanner(
+                    task, family, "sat", oracles=orc, deadline=deadline, options=options
+                )
+            r = sat_opt.optimal(sel)
         return r
 
     try:
         robot = opt_of(family.robot_selection)
-    except (OracleInterrupted, TimeLimitReached) as e:
-        if hasattr(orc, "set_deadline"):
-            orc.set_deadline(earlier_deadline)
-        if isinstance(e, TimeLimitReached) or not deadline.expired():
+    except OracleInterrupted:
+        if not deadline.expired():
             raise
         raise TimeLimitReached(deadline.seconds) from None  # nothing proven to report
-    _require_robot_plan(task, robot)
+    require_robot_plan(task, robot)
     if not robot.exact:
         exact = False
         notes.append(f"robot optimum not proven: {robot.reason}")
@@ -161,7 +172,7 @@ def sat_frontier(
         "unsolvable_models": 0,
         "joint_searches": 0,
     }
-    budget = _Budget(joint_conflict_budget)
+    budget = _Budget(joint_conflict_budget, options)
     _searcher = []
 
     def searcher() -> JointSearcher:
@@ -218,18 +229,22 @@ def sat_frontier(
                     break
                 opt_cache[sel] = opt
                 stats["opt_calls"] += 1
-            if opt.status != "optimal":
+            if opt.status != Status.OPTIMAL:
                 # no plan (or none found): no solution can use this model; exclude it
                 on = None
-                if opt.status == "unsolvable":
+                if opt.status == Status.UNSOLVABLE:
                     stats["unsolvable_models"] += 1
                     # the core's searches only shrink the exclusion, so they stop at the
-                    # deadline (barman-bar Δ=20 p2 ran 7 s past a 40 s --timeout here)
+                    # deadline: a smaller core is not worth running past the time limit
                     on = unsolvable_core(
                         family,
                         sel,
-                        search_seconds=max(0.05, core_search_factor * opt.time_s),
-                        stop_at=stop_at,
+                        search_seconds=max(
+                            options.unsolvable_core_min_seconds,
+                            options.core_search_factor * opt.time_s,
+                        ),
+                        node_limit=options.unsolvable_core_nodes,
+                        deadline=deadline,
                     )
                 else:
                     exact = False
@@ -248,7 +263,7 @@ def sat_frontier(
                 # allow) c* are proven lower bounds that spare the final UNSAT call
                 t_sat = time.perf_counter()
                 res = (
-                    _UNDECIDED
+                    None
                     if joint == "search"
                     else orc.joint(
                         sel,
@@ -262,7 +277,7 @@ def sat_frontier(
                 )
                 t_sat = time.perf_counter() - t_sat
                 ts = tight_support(family, sel, opt.plan)
-                if res.status == "unknown":
+                if res is None or res.status not in (Status.PLAN, Status.INFEASIBLE):
                     stats["joint_searches"] += 1
                     t_search = time.perf_counter()
                     res = search_joint(
@@ -272,7 +287,7 @@ def sat_frontier(
                         bound,
                         opt.cost,
                         keep=frozenset(i for i, _ in ts),
-                        deadline=stop_at,
+                        deadline=deadline.at,  # after the joint rewrite: deadline=deadline
                     )
                     if res is None:
                         raise OracleInterrupted
@@ -307,8 +322,6 @@ def sat_frontier(
             _learn(hs, exclusion_clause(sel, on), stats)
     finally:
         hs.close()
-        if stop_at is not None and hasattr(orc, "set_deadline"):
-            orc.set_deadline(earlier_deadline)
     pts = pareto_filter(points)
     return Frontier(
         engine="sat",
@@ -343,43 +356,28 @@ JOINT_METHODS = ("portfolio", "sat", "search")
 class _Budget:
     """The portfolio's SAT conflict budget per JOINT call.
 
-    Fixed when given; otherwise it starts at 5,000 conflicts and adapts to the task: after a
-    call where SAT ran out and the explicit search answered, the budget halves when the search
-    took less time than the wasted SAT attempt and doubles otherwise (within 1,000-160,000).
-    Either way every answer is exact; only which oracle gives it changes.
+    Fixed when given; otherwise it starts at ``options.portfolio_conflicts`` and adapts to the
+    task: after a call where SAT ran out and the explicit search answered, the budget halves
+    when the search took less time than the wasted SAT attempt and doubles otherwise (within
+    ``portfolio_min_conflicts`` to ``portfolio_max_conflicts``).  Either way every answer is
+    exact; only which oracle gives it changes.
     """
 
-    def __init__(self, fixed: int | None):
+    def __init__(self, fixed: int | None, options: Options = DEFAULT):
         self.adaptive = fixed is None
-        self.conflicts = 5_000 if fixed is None else fixed
+        self.conflicts = options.portfolio_conflicts if fixed is None else fixed
+        self.low, self.high = options.portfolio_min_conflicts, options.portfolio_max_conflicts
 
     def update(self, sat_s: float, search_s: float) -> None:
         if not self.adaptive:
             return
         if search_s < sat_s:
-            self.conflicts = max(1_000, self.conflicts // 2)
+            self.conflicts = max(self.low, self.conflicts // 2)
         else:
-            self.conflicts = min(160_000, self.conflicts * 2)
-
-
-class _Undecided:
-    status = "unknown"
-
-
-_UNDECIDED = _Undecided()
+            self.conflicts = min(self.high, self.conflicts * 2)
 
 
 def _learn(hs, clause, stats) -> None:
     hs.add(clause)
     stats["learned"] += 1
     stats["learned_literals"] += len(clause)
-
-
-def _require_robot_plan(task: TwoModelTask, robot) -> None:
-    from mega_sat.errors import UnsolvableError
-
-    src = task.sources.get("robot_problem", "robot problem")
-    if robot.status == "unsolvable":
-        raise UnsolvableError("the robot problem has no plan", path=src)
-    if robot.status != "optimal":
-        raise UnsolvableError(f"no plan found for the robot problem ({robot.reason})", path=src)

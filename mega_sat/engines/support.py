@@ -11,8 +11,10 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
 
+from mega_sat.deadline import NO_DEADLINE, Deadline
 from mega_sat.ground.family import GroundFamily, GuardLit
 from mega_sat.model.lifted import PlanStep
+from mega_sat.status import Status
 
 
 def support(family: GroundFamily, plan: Sequence[PlanStep]) -> frozenset[int]:
@@ -75,7 +77,7 @@ def unsolvable_core(
     *,
     search_seconds: float = 0.0,
     node_limit: int = 2_000,
-    stop_at: float | None = None,
+    deadline: Deadline | None = None,
 ) -> frozenset[int] | None:
     """A set ``S`` of updates such that every selection agreeing with ``selection`` on ``S`` has
     no plan, for an unsolvable ``human + selection``; ``None`` when nothing smaller than "all
@@ -85,21 +87,18 @@ def unsolvable_core(
     free.  Three proofs are tried: relaxed reachability of the most permissive model and h^2
     pair reachability of the abstraction with the update free (both cheap), then an exhaustive
     search of the abstraction with the update free
-    (:func:`mega_sat.analysis.abstraction.abstract_task`), of at most ``node_limit`` expansions each and
-    ``search_seconds`` in all; a search cut short proves nothing and keeps the update.  After
-    ``stop_at`` (a ``time.perf_counter()`` value) no search runs and no update is tried any
-    more: the updates not yet dropped stay in ``S``, which is still sound, only larger.
+    (:func:`mega_sat.analysis.abstraction.abstract_task`), of at most ``node_limit`` expansions
+    each and ``search_seconds`` in all; a search cut short proves nothing and keeps the update.
+    Once ``deadline`` has passed no search runs and no update is tried any more: the updates
+    not yet dropped stay in ``S``, which is still sound, only larger.
     """
-    import time
-
     from mega_sat.analysis.abstraction import abstract_task
     from mega_sat.analysis.pair_reachability import goal_pair_unreachable
-    from mega_sat.search.astar import astar
+    from mega_sat.search.astar import astar, within
 
+    deadline = deadline if deadline is not None else NO_DEADLINE
+    searches = within(deadline, search_seconds)
     everything = frozenset(range(family.n_updates))
-    deadline = time.perf_counter() + search_seconds
-    if stop_at is not None:
-        deadline = min(deadline, stop_at)
 
     def unsolvable(fixed: frozenset[int]) -> bool:
         if not _relaxed_goal_reachable(family, selection, fixed):
@@ -107,20 +106,14 @@ def unsolvable_core(
         abstraction = abstract_task(family, selection, fixed)
         if goal_pair_unreachable(abstraction):
             return True
-        left = deadline - time.perf_counter()
-        if left <= 0:
+        if searches.expired():
             return False
-        r = astar(
-            abstraction,
-            heuristic="blind",
-            time_limit=left,
-            node_limit=node_limit,
-        )
-        return r.status == "unsolvable"
+        r = astar(abstraction, heuristic="blind", deadline=searches, node_limit=node_limit)
+        return r.status == Status.UNSOLVABLE
 
     fixed = everything
     for i in sorted(everything):
-        if stop_at is not None and time.perf_counter() >= stop_at:
+        if deadline.expired():
             break
         trial = fixed - {i}
         if unsolvable(trial):

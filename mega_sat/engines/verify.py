@@ -17,6 +17,8 @@ from mega_sat.ground.family import GroundFamily
 from mega_sat.ground.simulate import simulate
 from mega_sat.model.lifted import PlanStep
 from mega_sat.model.task import TwoModelTask
+from mega_sat.options import DEFAULT, Options
+from mega_sat.status import Status
 
 
 @dataclass(frozen=True)
@@ -63,8 +65,9 @@ class VerifyReport:
         return d
 
 
-SUPERSET_CHECK_LIMIT = 64
-"""At most this many strict supersets of an MME are re-checked, one optimal planner call each."""
+SUPERSET_CHECK_LIMIT = DEFAULT.superset_check_limit
+"""At most this many strict supersets of an MME are re-checked, one optimal planner call each
+(``Options.superset_check_limit``)."""
 
 SUPERSETS = "optimal in every human + E' with E < E' <= Delta"
 
@@ -78,18 +81,23 @@ def verify_supersets(
     checker: str,
     oracles=None,
     deadline: Deadline | None = None,
-    limit: int = SUPERSET_CHECK_LIMIT,
+    limit: int | None = None,
+    options: Options = DEFAULT,
 ) -> Check | str:
     """The check that makes an MME monotonic: ``plan`` runs in ``human + E'`` (lifted
     simulation) at the optimum of ``human + E'`` (by ``checker``) for every strict superset
-    ``E'`` of ``selection``; with more than ``limit`` supersets, the reason it is skipped."""
+    ``E'`` of ``selection``; with more than ``limit`` supersets (default
+    ``options.superset_check_limit``), the reason it is skipped."""
     from mega_sat.planners.node_planner import NodePlanner
 
+    limit = options.superset_check_limit if limit is None else limit
     rest = sorted(set(range(len(task.delta))) - set(selection))
     count = (1 << len(rest)) - 1
     if count > limit:
         return f"{SUPERSETS}: {count} supersets, more than {limit}"
-    planner = NodePlanner(task, family, checker, oracles=oracles, deadline=deadline)
+    planner = NodePlanner(
+        task, family, checker, oracles=oracles, deadline=deadline, options=options
+    )
     plan = tuple(tuple(s) for s in plan)
     for mask in range(1, count + 1):
         added = frozenset(rest[k] for k in range(len(rest)) if mask >> k & 1)
@@ -99,7 +107,7 @@ def verify_supersets(
         if not sim.valid:
             return Check(SUPERSETS, False, f"{where}: {sim.reason}")
         opt = planner.optimal(bigger)
-        if opt.status != "optimal" or not opt.exact:
+        if opt.status != Status.OPTIMAL or not opt.exact:
             return Check(SUPERSETS, False, f"{where}: no proven optimum by {checker}")
         if opt.cost != sim.cost:
             return Check(SUPERSETS, False, f"{where}: optimum {opt.cost}; plan: {sim.cost}")
@@ -137,6 +145,7 @@ def verify_pair(
     deadline: Deadline | None = None,
     update_costs: tuple[int, ...] | None = None,
     explanation_cost: int | None = None,
+    options: Options = DEFAULT,
 ) -> VerifyReport:
     """Check one answer; ``robot_cost``/``human_cost``, when given, must match the simulation.
 
@@ -144,8 +153,9 @@ def verify_pair(
     ``explanation_cost``, when given, must equal it.
 
     ``oracles``: live SAT oracles of this task, reused when the checker is ``sat``.  The
-    checker's planner stops at ``deadline`` with :class:`~mega_sat.deadline.TimeLimitReached`
-    (an optimum not re-derived is neither a pass nor a failure).
+    checker's planner and VAL stop at ``deadline`` with
+    :class:`~mega_sat.deadline.TimeLimitReached` (an optimum not re-derived is neither a pass
+    nor a failure).  ``options``: the tuning knobs of the checker's planner.
     """
     from mega_sat.planners.node_planner import NodePlanner
 
@@ -185,10 +195,9 @@ def verify_pair(
             )
         )
     kind = checker or checker_for(producer)
-    opt = NodePlanner(task, family, kind, oracles=oracles, deadline=deadline).optimal(
-        frozenset(selection)
-    )
-    if opt.status == "optimal":
+    checker = NodePlanner(task, family, kind, oracles=oracles, deadline=deadline, options=options)
+    opt = checker.optimal(frozenset(selection))
+    if opt.status == Status.OPTIMAL:
         good = sim_h.valid and sim_h.cost == opt.cost
         detail = f"optimum of human + E by {kind}: {opt.cost}; plan: {sim_h.cost}"
         if not opt.exact:
@@ -210,7 +219,9 @@ def verify_pair(
             from mega_sat.planners.val import val_validate
 
             for label, model in (("robot model", task.robot), ("human + E", updated)):
-                v = val_validate(domain_to_pddl(model), problem_to_pddl(model), plan)
+                v = val_validate(
+                    domain_to_pddl(model), problem_to_pddl(model), plan, deadline=deadline
+                )
                 checks.append(
                     Check(
                         f"VAL: valid in {label}",

@@ -106,10 +106,6 @@ class GroundTask:
     def by_step(self) -> dict[PlanStep, StripsAction]:
         return {a.step: a for a in self.actions}
 
-    @property
-    def has_zero_cost(self) -> bool:
-        return any(a.cost <= 0 for a in self.actions)
-
     def describe(self) -> str:
         return f"{len(self.atoms)} atoms, {len(self.actions)} actions"
 

@@ -79,9 +79,6 @@ class Feature:
             return f"has-initial-value-{atom_str(self.atom[:-1])}={self.atom[-1]}"
         raise ValueError(f"unknown feature kind {k!r}")
 
-    def sort_key(self) -> tuple:
-        return (KIND_ORDER[self.kind], self.action, self.atom)
-
     def __str__(self) -> str:
         return self.name
 

@@ -102,8 +102,3 @@ class Model:
         binding = dict(zip(schema.params, args, strict=True))
         term = tuple(binding.get(x, x) for x in schema.cost)
         return self.functions[term]
-
-
-def ground_atom(atom: Atom, binding: Mapping[str, str]) -> Atom:
-    """Substitute parameters in a lifted atom."""
-    return (atom[0],) + tuple(binding.get(x, x) for x in atom[1:])

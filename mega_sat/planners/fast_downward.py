@@ -7,11 +7,11 @@ directory that is removed afterwards.
 
 Exit codes (``driver/returncodes.py`` of the installed package): 0 solved; 10
 ``TRANSLATE_UNSOLVABLE`` and 11 ``SEARCH_UNSOLVABLE`` are proofs of unsolvability; 21/23/24
-(translator or search out of time) are time-outs; ``time_limit`` itself is a wall-clock limit
+(translator or search out of time) are time-outs; the run's deadline is a wall-clock limit
 enforced by killing FD's process group.  12 ``SEARCH_UNSOLVED_INCOMPLETE`` means an
 *incomplete* search gave up without a plan, which proves nothing, so it is reported as a
-:class:`PlannerError` like every other failure.  ``status == "optimal"`` assumes an optimal
-search configuration such as the default ``astar(lmcut())``.
+:class:`PlannerError` like every other failure.  ``Status.OPTIMAL`` assumes an optimal search
+configuration such as the default ``astar(lmcut())``.
 """
 
 from __future__ import annotations
@@ -27,9 +27,11 @@ import tempfile
 import time
 from pathlib import Path
 
+from mega_sat.deadline import Deadline
 from mega_sat.errors import PlannerError
 from mega_sat.model.lifted import PlanStep
-from mega_sat.search.astar import PlanResult
+from mega_sat.search.astar import PlanResult, within
+from mega_sat.status import Status
 
 _SOLVED = 0
 _UNSOLVABLE = (10, 11)
@@ -92,16 +94,22 @@ def fd_plan(
     problem_text: str,
     *,
     search: str = "astar(lmcut())",
+    deadline: Deadline | None = None,
     time_limit: float | None = None,
 ) -> PlanResult:
-    """Run Fast Downward on PDDL text; ``planner`` of the result is ``"fd"``."""
+    """Run Fast Downward on PDDL text; ``planner`` of the result is ``"fd"``.  FD gets the time
+    left before ``deadline`` (or ``time_limit`` seconds, a limit of this call alone, when that
+    comes first) and answers ``TIMEOUT`` when it runs out."""
     script = fd_script()
     if script is None:
         raise PlannerError("Fast Downward is not installed: pip install 'mega-sat[fd]'")
     t0 = time.perf_counter()
+    deadline = within(deadline, time_limit)
 
-    def result(status: str, plan=None, cost=None) -> PlanResult:
-        return PlanResult(status, plan, cost, 0, time.perf_counter() - t0, "fd")
+    def result(status: Status, plan=None, cost=None) -> PlanResult:
+        reason = "" if status.decided else str(status)
+        elapsed = time.perf_counter() - t0
+        return PlanResult(status, plan, cost, status.decided, "fd", elapsed, reason)
 
     with tempfile.TemporaryDirectory(prefix="mega-sat-fd-") as tmp:
         dom, prob, plan_file = (
@@ -127,10 +135,10 @@ def fd_plan(
             start_new_session=True,
         )
         try:
-            stdout, stderr = proc.communicate(timeout=time_limit)
+            stdout, stderr = proc.communicate(timeout=deadline.remaining())
         except subprocess.TimeoutExpired:
             _kill_group(proc)
-            return result("timeout")
+            return result(Status.TIMEOUT)
         except BaseException:  # an interrupt or the run's time limit: no orphaned search
             _kill_group(proc)
             raise
@@ -141,11 +149,11 @@ def fd_plan(
             steps, cost = parse_plan_text(Path(plan_file).read_text())
             if cost is None:
                 raise PlannerError("Fast Downward's plan file has no '; cost = N' line")
-            return result("optimal", steps, cost)
+            return result(Status.OPTIMAL, steps, cost)
         if rc in _UNSOLVABLE:
-            return result("unsolvable")
+            return result(Status.UNSOLVABLE)
         if rc in _TIMEOUT:
-            return result("timeout")
+            return result(Status.TIMEOUT)
         raise PlannerError(f"Fast Downward failed (exit code {rc}): {_error_line(stderr, stdout)}")
 
 

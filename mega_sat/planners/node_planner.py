@@ -13,38 +13,32 @@ too.  Three planners answer the same question (optimal cost and one optimal plan
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
 
 from mega_sat.deadline import NO_DEADLINE, Deadline, TimeLimitReached
 from mega_sat.errors import PlannerError, UsageError
 from mega_sat.ground.family import GroundFamily, GroundTask
 from mega_sat.model.lifted import PlanStep
 from mega_sat.model.task import TwoModelTask
+from mega_sat.options import DEFAULT, Options
+from mega_sat.search.astar import PlanResult, within
+from mega_sat.status import Status
 
 PLANNERS = ("builtin", "sat", "fd")
 
-
-@dataclass(frozen=True)
-class NodePlan:
-    """Outcome of one optimal planning call: ``status`` is ``optimal``, ``unsolvable`` or
-    ``unknown`` (time-out, horizon cap); ``exact`` is false when optimality is not proven."""
-
-    status: str
-    plan: tuple[PlanStep, ...] | None
-    cost: int | None
-    exact: bool
-    planner: str
-    time_s: float
-    reason: str = ""
+NodePlan = PlanResult
+"""The earlier name of a planner call's answer, kept for code that imports it."""
 
 
 class NodePlanner:
     """Answers ``optimal(selection)`` for one task with one planner; keeps what it can alive
     (the SAT oracles, the ground family) across calls.
 
-    Each call gets ``time_limit`` seconds, cut to what is left before ``deadline``; a call
-    that the deadline cuts short raises :class:`TimeLimitReached` (it proved nothing), one
-    that runs out of its own ``time_limit`` answers ``unknown``.
+    Every call runs within ``deadline``, the run's one time limit, and within ``time_limit``
+    seconds of its own when given (a limit per call, for measuring one call); a call that the
+    deadline cuts short raises :class:`TimeLimitReached` (it proved nothing), one that runs out
+    of its own ``time_limit`` answers ``TIMEOUT`` and one that runs out of a budget (the SAT
+    horizon cap) ``LIMIT``.  ``options``: the tuning knobs
+    (``blind_nodes`` of the built-in planner).
     """
 
     def __init__(
@@ -57,6 +51,7 @@ class NodePlanner:
         oracles=None,
         solver: str = "cadical195",
         deadline: Deadline | None = None,
+        options: Options = DEFAULT,
     ):
         if kind not in PLANNERS:
             raise UsageError(f"unknown planner {kind!r} (choose from {', '.join(PLANNERS)})")
@@ -68,6 +63,7 @@ class NodePlanner:
         self.task, self.family, self.kind = task, family, kind
         self.time_limit = time_limit
         self.deadline = deadline if deadline is not None else NO_DEADLINE
+        self.options = options
         self._oracles = oracles
         self._solver = solver
         self.calls = 0
@@ -78,12 +74,13 @@ class NodePlanner:
         if self._oracles is None:
             from mega_sat.sat.oracles import SatOracles
 
+            # after the sat rewrite: SatOracles(family, solver=..., options=, deadline=)
             self._oracles = SatOracles(self.family, solver=self._solver)
             if self.deadline.limited:
                 self._oracles.set_deadline(self.deadline.at)
         return self._oracles
 
-    def optimal(self, selection: frozenset[int]) -> NodePlan:
+    def optimal(self, selection: frozenset[int]) -> PlanResult:
         from mega_sat.sat.oracles import OracleInterrupted
 
         t0 = time.perf_counter()
@@ -97,35 +94,30 @@ class NodePlanner:
             raise
         finally:
             self.time_s += time.perf_counter() - t0
-        if r.status == "unknown" and self.deadline.expired():
+        if not r.status.decided and self.deadline.expired():
             raise TimeLimitReached(self.deadline.seconds)  # cut short: nothing proven
         return r
 
-    def _optimal(self, sel: frozenset[int], t0: float) -> NodePlan:
-        limit = self.deadline.cap(self.time_limit)
+    def _optimal(self, sel: frozenset[int], t0: float) -> PlanResult:
+        call = within(self.deadline, self.time_limit)
         task = self.family.specialize(sel)
+
+        def answer(status: Status, plan=None, cost=None, exact=None, reason="") -> PlanResult:
+            exact = status.decided if exact is None else exact
+            elapsed = time.perf_counter() - t0
+            return PlanResult(status, plan, cost, exact, self.kind, elapsed, reason)
+
         if task.goal <= task.init:
             # the empty plan is optimal (costs are >= 0); some planners refuse such tasks
-            return NodePlan("optimal", (), 0, True, self.kind, time.perf_counter() - t0)
+            return answer(Status.OPTIMAL, (), 0)
         if self.kind == "builtin":
             from mega_sat.search.astar import solve_optimal
 
-            r = solve_optimal(task, time_limit=limit)
-            status = r.status if r.status in ("optimal", "unsolvable") else "unknown"
-            return NodePlan(
-                status,
-                r.plan,
-                r.cost,
-                status != "unknown",
-                "builtin",
-                time.perf_counter() - t0,
-                "" if status != "unknown" else r.status,
-            )
+            r = solve_optimal(task, deadline=call, blind_nodes=self.options.blind_nodes)
+            return answer(r.status, r.plan, r.cost, reason=r.reason)
         if self.kind == "sat":
             r = self.oracles.opt(sel)
-            return NodePlan(
-                r.status, r.plan, r.cost, r.exact, "sat", time.perf_counter() - t0, r.reason
-            )
+            return answer(_opt_status(r.status), r.plan, r.cost, r.exact, r.reason)
         from mega_sat.pddl.writer import domain_to_pddl, problem_to_pddl
         from mega_sat.planners.fast_downward import fd_plan
 
@@ -133,7 +125,7 @@ class NodePlanner:
         r = None
         if not any(s.negpre for s in model.schemas.values()):
             try:
-                r = fd_plan(domain_to_pddl(model), problem_to_pddl(model), time_limit=limit)
+                r = fd_plan(domain_to_pddl(model), problem_to_pddl(model), deadline=call)
             except PlannerError as e:
                 if "exit code 34" not in str(e):
                     raise
@@ -142,12 +134,10 @@ class NodePlanner:
             # conditional effects, which LM-cut rejects: hand it the ground model with those
             # compiled away instead (same plans, same costs)
             dom, prob, names = ground_strips_pddl(task)
-            r = fd_plan(dom, prob, time_limit=self.deadline.cap(self.time_limit))
-            if r.status == "optimal" and r.plan is not None:
-                plan = tuple(names[s[0]] for s in r.plan)
-                return NodePlan("optimal", plan, r.cost, True, "fd", time.perf_counter() - t0)
-        status = r.status if r.status in ("optimal", "unsolvable") else "unknown"
-        if status == "optimal" and r.plan is not None:
+            r = fd_plan(dom, prob, deadline=call)
+            if r.status == Status.OPTIMAL and r.plan is not None:
+                return answer(Status.OPTIMAL, tuple(names[s[0]] for s in r.plan), r.cost)
+        if r.status == Status.OPTIMAL and r.plan is not None:
             # FD may print names in another case or order; map back onto the family's steps
             plan = tuple(tuple(x.lower() for x in s) for s in r.plan)
             missing = [s for s in plan if s not in self.family.action_index]
@@ -156,10 +146,27 @@ class NodePlanner:
                     f"Fast Downward returned an action outside the ground family: "
                     f"({' '.join(missing[0])})"
                 )
-            return NodePlan("optimal", plan, r.cost, True, "fd", time.perf_counter() - t0)
-        return NodePlan(
-            status, None, None, status != "unknown", "fd", time.perf_counter() - t0, r.status
-        )
+            return answer(Status.OPTIMAL, plan, r.cost)
+        return answer(r.status, reason=r.reason)
+
+
+def require_robot_plan(task: TwoModelTask, r: PlanResult) -> None:
+    """Refuse a task whose robot problem has no plan (``r``: the call on the robot model);
+    every engine starts from the robot optimum."""
+    from mega_sat.errors import UnsolvableError
+
+    src = task.sources.get("robot_problem", "robot problem")
+    if r.status == Status.UNSOLVABLE:
+        raise UnsolvableError("the robot problem has no plan", path=src)
+    if r.status != Status.OPTIMAL:
+        raise UnsolvableError(f"no plan found for the robot problem ({r.reason})", path=src)
+
+
+def _opt_status(status: str) -> Status:
+    """The SAT OPT oracle's status as a :class:`Status`; its ``unknown`` (the horizon cap or a
+    conflict budget ran out: a deadline raises instead) is ``LIMIT``.  Goes away once the
+    oracles answer with a :class:`Status` themselves."""
+    return Status.LIMIT if status == "unknown" else Status(status)
 
 
 def ground_strips_pddl(task: GroundTask) -> tuple[str, str, dict[str, PlanStep]]:

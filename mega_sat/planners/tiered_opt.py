@@ -8,8 +8,9 @@ few updates.  Most answers can be proven without a planner call:
    (:mod:`mega_sat.analysis.pair_reachability`): *unsolvable*;
 2. **cached**: some optimal plan of an earlier candidate runs in ``human + E`` at a cost equal
    to LM-cut of the initial state; LM-cut is admissible, so no plan is cheaper: *optimal*;
-3. **quick search**: uniform-cost search that finishes within a small node limit (exact:
-   an exhausted space proves unsolvability, the first goal popped is optimal);
+3. **quick search**: uniform-cost search that finishes within ``Options.quick_nodes``
+   expansions (exact: an exhausted space proves unsolvability, the first goal popped is
+   optimal);
 4. **planner**: the configured optimal planner (built-in, SAT or Fast Downward).
 
 Every tier is a proof, so the answers are exactly the planner's costs; only which plan is
@@ -27,18 +28,25 @@ from mega_sat.analysis.relaxation import RelaxedTask
 from mega_sat.ground.family import GroundFamily
 from mega_sat.ground.simulate import ground_plan_cost
 from mega_sat.model.lifted import PlanStep
-from mega_sat.planners.node_planner import NodePlan, NodePlanner
-from mega_sat.search.astar import astar
+from mega_sat.options import Options
+from mega_sat.planners.node_planner import NodePlanner
+from mega_sat.search.astar import PlanResult, astar
+from mega_sat.status import Status
 
 _INF = float("inf")
 
 
 class TieredOpt:
-    """``optimal(selection)`` through the tiers above, then ``planner``."""
+    """``optimal(selection)`` through the tiers above, then ``planner`` (whose deadline and
+    options the tiers share)."""
 
-    def __init__(self, family: GroundFamily, planner: NodePlanner, *, quick_nodes: int = 5_000):
+    def __init__(
+        self, family: GroundFamily, planner: NodePlanner, *, options: Options | None = None
+    ):
         self.family = family
         self.planner = planner
+        self.deadline = planner.deadline
+        quick_nodes = (options or planner.options).quick_nodes
         # the built-in planner starts with the same uniform-cost search: no quick tier then
         self.quick_nodes = 0 if planner.kind == "builtin" else quick_nodes
         self._plans: list[tuple[PlanStep, ...]] = []
@@ -48,39 +56,39 @@ class TieredOpt:
         }
         self.time_s = 0.0
 
-    def optimal(self, selection: frozenset[int]) -> NodePlan:
+    def optimal(self, selection: frozenset[int]) -> PlanResult:
         t0 = time.perf_counter()
         try:
             r = self._optimal(frozenset(selection), t0)
         finally:
             self.time_s += time.perf_counter() - t0
-        if r.status == "optimal" and r.plan is not None and r.plan not in self._seen:
+        if r.status == Status.OPTIMAL and r.plan is not None and r.plan not in self._seen:
             self._seen.add(r.plan)
             self._plans.append(r.plan)
         return r
 
-    def _optimal(self, sel: frozenset[int], t0: float) -> NodePlan:
+    def _optimal(self, sel: frozenset[int], t0: float) -> PlanResult:
         task = self.family.specialize(sel)
 
-        def done(status, plan, cost, how) -> NodePlan:
+        def done(status, plan, cost, how) -> PlanResult:
             self.stats[f"opt_by_{how}"] += 1
-            return NodePlan(status, plan, cost, True, how, time.perf_counter() - t0, how)
+            return PlanResult(status, plan, cost, True, how, time.perf_counter() - t0, how)
 
         bound = RelaxedTask(task).lmcut(sorted(task.init))
         if bound == _INF:
-            return done("unsolvable", None, None, "relaxed")
+            return done(Status.UNSOLVABLE, None, None, "relaxed")
         if goal_pair_unreachable(abstract_task(self.family, sel, range(self.family.n_updates))):
-            return done("unsolvable", None, None, "pairs")
+            return done(Status.UNSOLVABLE, None, None, "pairs")
         best = None
         for plan in self._plans:
             c = ground_plan_cost(task, plan)
             if c is not None and (best is None or c < best[0]):
                 best = (c, plan)
         if best is not None and best[0] <= bound:
-            return done("optimal", best[1], best[0], "cached")
+            return done(Status.OPTIMAL, best[1], best[0], "cached")
         if self.quick_nodes:
-            r = astar(task, heuristic="blind", node_limit=self.quick_nodes)
-            if r.status in ("optimal", "unsolvable"):
+            r = astar(task, heuristic="blind", deadline=self.deadline, node_limit=self.quick_nodes)
+            if r.status.decided:
                 return done(r.status, r.plan, r.cost, "quick_search")
         self.stats["opt_by_planner"] += 1
         return self.planner.optimal(sel)

@@ -15,8 +15,12 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from mega_sat.deadline import NO_DEADLINE, Deadline, TimeLimitReached
 from mega_sat.errors import PlannerError
 from mega_sat.model.lifted import PlanStep, step_str
+
+VAL_SECONDS = 600.0
+"""A VAL run that takes longer than this is stuck (it validates one plan in milliseconds)."""
 
 
 @dataclass(frozen=True)
@@ -74,8 +78,16 @@ def _parse(stdout: str, stderr: str, rc: int) -> ValResult:
     )
 
 
-def val_validate(domain_text: str, problem_text: str, plan: Sequence[PlanStep]) -> ValResult:
-    """Validate ``plan`` against PDDL text with ``Validate -v``."""
+def val_validate(
+    domain_text: str,
+    problem_text: str,
+    plan: Sequence[PlanStep],
+    *,
+    deadline: Deadline | None = None,
+) -> ValResult:
+    """Validate ``plan`` against PDDL text with ``Validate -v``; VAL gets the time left before
+    ``deadline`` and is stopped there with :class:`TimeLimitReached`."""
+    deadline = deadline if deadline is not None else NO_DEADLINE
     binary = val_binary()
     if binary is None:
         raise PlannerError("VAL is not installed: pip install 'mega-sat[val]'")
@@ -84,7 +96,17 @@ def val_validate(domain_text: str, problem_text: str, plan: Sequence[PlanStep]) 
         Path(dom).write_text(domain_text)
         Path(prob).write_text(problem_text)
         Path(pf).write_text("".join(step_str(s) + "\n" for s in plan))
-        proc = subprocess.run(
-            [str(binary), "-v", dom, prob, pf], cwd=tmp, capture_output=True, text=True, timeout=600
-        )
+        limit = deadline.cap(VAL_SECONDS)
+        try:
+            proc = subprocess.run(
+                [str(binary), "-v", dom, prob, pf],
+                cwd=tmp,
+                capture_output=True,
+                text=True,
+                timeout=limit,
+            )
+        except subprocess.TimeoutExpired:
+            if deadline.expired():
+                raise TimeLimitReached(deadline.seconds) from None
+            raise PlannerError(f"VAL did not finish within {VAL_SECONDS:g} s") from None
     return _parse(proc.stdout, proc.stderr, proc.returncode)

@@ -9,8 +9,12 @@ verification, so it must be exactly optimal (also with zero-cost actions) and de
   relaxation weaker, so they stay admissible.  LM-cut is not consistent, so closed states are
   reopened when a cheaper path is found.
 * Tie-breaking is deterministic: lower ``f``, then lower ``h``, then first generated (FIFO).
-* ``unsolvable`` is returned only when the search space is exhausted or the goal is
+* ``UNSOLVABLE`` is returned only when the search space is exhausted or the goal is
   relaxed-unreachable from the initial state.
+
+:class:`PlanResult` is the answer of every optimal planning call on one model, whichever planner
+gives it (this search, Fast Downward, the SAT OPT oracle through
+:class:`mega_sat.planners.node_planner.NodePlanner`).
 """
 
 from __future__ import annotations
@@ -20,27 +24,38 @@ import time
 from dataclasses import dataclass
 
 from mega_sat.analysis.relaxation import RelaxedTask, bits
+from mega_sat.deadline import NO_DEADLINE, Deadline
 from mega_sat.ground.family import GroundTask
 from mega_sat.model.lifted import PlanStep
+from mega_sat.status import Status
 
 HEURISTICS = ("lmcut", "hmax", "blind")
 _INF = float("inf")
+_CHECK_EVERY = 32
+"""Expansions between two reads of the clock: often enough to stop within milliseconds of the
+deadline, rarely enough that the clock costs nothing."""
 
 
 @dataclass(frozen=True)
 class PlanResult:
-    """Outcome of one optimal planning call.
+    """The answer of one optimal planning call on one model.
 
-    ``status`` is ``optimal`` (``plan``/``cost`` set), ``unsolvable`` (proven) or ``timeout``
-    (time or node limit reached, nothing proven).
+    ``status`` is :attr:`Status.OPTIMAL` (``plan`` and ``cost`` set), :attr:`Status.UNSOLVABLE`
+    (proven), :attr:`Status.TIMEOUT` (the deadline or the call's own time limit passed) or
+    :attr:`Status.LIMIT` (a node budget or the SAT horizon cap ran out); the last two prove
+    nothing.  ``exact`` is false when the answer is not a proof (a SAT optimum with zero-cost
+    actions, or no answer); ``reason`` says why in words; ``expanded`` counts the states an
+    explicit search expanded (0 for the other planners).
     """
 
-    status: str
+    status: Status
     plan: tuple[PlanStep, ...] | None
     cost: int | None
-    expanded: int
-    time_s: float
+    exact: bool
     planner: str
+    time_s: float
+    reason: str = ""
+    expanded: int = 0
 
 
 def _successor_groups(task: GroundTask) -> list[tuple[int, list[tuple]]]:
@@ -65,10 +80,11 @@ def astar(
     task: GroundTask,
     *,
     heuristic: str = "lmcut",
-    time_limit: float | None = None,
+    deadline: Deadline | None = None,
     node_limit: int | None = None,
 ) -> PlanResult:
-    """Optimal plan of ``task`` by A* with reopening."""
+    """Optimal plan of ``task`` by A* with reopening; ``TIMEOUT`` once ``deadline`` has passed,
+    ``LIMIT`` after ``node_limit`` expansions."""
     if heuristic not in HEURISTICS:
         raise ValueError(f"unknown heuristic {heuristic!r} (choose from {', '.join(HEURISTICS)})")
     t0 = time.perf_counter()
@@ -88,17 +104,27 @@ def astar(
         def h_of(s: int) -> float:
             return fn(bits(s))
 
-    def result(status: str, plan=None, cost=None) -> PlanResult:
-        return PlanResult(status, plan, cost, expanded, time.perf_counter() - t0, planner)
+    def result(status: Status, plan=None, cost=None) -> PlanResult:
+        return PlanResult(
+            status,
+            plan,
+            cost,
+            status.decided,
+            planner,
+            time.perf_counter() - t0,
+            "" if status.decided else str(status),
+            expanded,
+        )
 
+    stop_at = (deadline or NO_DEADLINE).at
     expanded = 0
     h0 = h_of(init)
     if h0 == _INF:
-        return result("unsolvable")
+        return result(Status.UNSOLVABLE)
     if heuristic == "blind" and min_cost <= 0:
         # h is 0 everywhere: Dijkstra, in the same order as the heap below (by g, then first
         # generated), but with a FIFO list per g; OPT's lowered-cost search lives here
-        status, plan, cost, expanded = _uniform_cost(task, init, goal, node_limit, t0, time_limit)
+        status, plan, cost, expanded = _uniform_cost(task, init, goal, node_limit, stop_at)
         return result(status, plan, cost)
     groups = _successor_groups(task)
     actions = task.actions
@@ -107,17 +133,16 @@ def astar(
     h_cache: dict[int, float] = {init: h0}
     counter = 0
     open_list: list[tuple] = [(h0, h0, counter, 0, init)]
-    deadline = None if time_limit is None else t0 + time_limit
     while open_list:
         _, _, _, g, s = heapq.heappop(open_list)
         if g > best_g[s]:
             continue
         if s & goal == goal:
-            return result("optimal", _trace(parent, actions, s), g)
+            return result(Status.OPTIMAL, _trace(parent, actions, s), g)
         if node_limit is not None and expanded >= node_limit:
-            return result("timeout")
-        if deadline is not None and expanded % 32 == 0 and time.perf_counter() > deadline:
-            return result("timeout")
+            return result(Status.LIMIT)
+        if stop_at is not None and expanded % _CHECK_EVERY == 0 and time.perf_counter() > stop_at:
+            return result(Status.TIMEOUT)
         expanded += 1
         for bit, acts in groups:
             if bit and not s & bit:
@@ -139,7 +164,7 @@ def astar(
                 parent[s2] = (s, j)
                 counter += 1
                 heapq.heappush(open_list, (g2 + h2, h2, counter, g2, s2))
-    return result("unsolvable")
+    return result(Status.UNSOLVABLE)
 
 
 def _trace(
@@ -158,20 +183,19 @@ def _uniform_cost(
     init: int,
     goal: int,
     node_limit: int | None,
-    t0: float,
-    time_limit: float | None,
-) -> tuple[str, tuple[PlanStep, ...] | None, int | None, int]:
+    stop_at: float | None,
+) -> tuple[Status, tuple[PlanStep, ...] | None, int | None, int]:
     """Uniform-cost search with one FIFO list per path cost ``g`` (``(status, plan, cost,
-    expanded)``).  It expands states in exactly the order of :func:`astar`'s heap with
-    ``h = 0`` (lower ``g``, then first generated), without the heap: 15 % faster on the
-    lowered-cost search of barman-bar/p3, where most actions cost 0."""
+    expanded)``; it stops once ``time.perf_counter()`` passes ``stop_at``).  It expands states
+    in exactly the order of :func:`astar`'s heap with ``h = 0`` (lower ``g``, then first
+    generated), without the heap, which pays off on tasks where most actions cost 0 and whole
+    layers share one ``g``."""
     groups = _successor_groups(task)
     actions = task.actions
     best_g: dict[int, int] = {init: 0}
     parent: dict[int, tuple[int, int] | None] = {init: None}
     buckets: dict[int, list[int]] = {0: [init]}
     pending = [0]  # the g values with a list, as a heap
-    deadline = None if time_limit is None else t0 + time_limit
     expanded = 0
     while pending:
         g = heapq.heappop(pending)
@@ -183,11 +207,15 @@ def _uniform_cost(
             if best_g[s] != g:
                 continue
             if s & goal == goal:
-                return "optimal", _trace(parent, actions, s), g, expanded
+                return Status.OPTIMAL, _trace(parent, actions, s), g, expanded
             if node_limit is not None and expanded >= node_limit:
-                return "timeout", None, None, expanded
-            if deadline is not None and expanded % 32 == 0 and time.perf_counter() > deadline:
-                return "timeout", None, None, expanded
+                return Status.LIMIT, None, None, expanded
+            if (
+                stop_at is not None
+                and expanded % _CHECK_EVERY == 0
+                and time.perf_counter() > stop_at
+            ):
+                return Status.TIMEOUT, None, None, expanded
             expanded += 1
             for bit, acts in groups:
                 if bit and not s & bit:
@@ -209,29 +237,49 @@ def _uniform_cost(
                     else:
                         buckets[g2] = [s2]
                         heapq.heappush(pending, g2)
-    return "unsolvable", None, None, expanded
+    return Status.UNSOLVABLE, None, None, expanded
 
 
 def solve_optimal(
-    task: GroundTask, *, time_limit: float | None = None, blind_nodes: int = 300_000
+    task: GroundTask,
+    *,
+    deadline: Deadline | None = None,
+    blind_nodes: int = 300_000,
+    time_limit: float | None = None,
 ) -> PlanResult:
     """The built-in planner's portfolio: uniform-cost search first, A* with LM-cut after.
 
     Both are optimal, so the answer is exact either way.  On the small state spaces of model
     families blind search wins by a wide margin (LM-cut in pure Python costs milliseconds per
-    state); when blind search passes ``blind_nodes`` expansions, LM-cut's pruning pays off.
+    state); when blind search passes ``blind_nodes`` expansions (``Options.blind_nodes``),
+    LM-cut's pruning pays off.  The search stops with ``TIMEOUT`` at ``deadline``, or after
+    ``time_limit`` seconds when that comes first (a limit of this call alone).
     """
     t0 = time.perf_counter()
-    r = astar(task, heuristic="blind", time_limit=time_limit, node_limit=blind_nodes)
-    if r.status != "timeout" or (time_limit is not None and time.perf_counter() - t0 >= time_limit):
+    deadline = within(deadline, time_limit)
+    r = astar(task, heuristic="blind", deadline=deadline, node_limit=blind_nodes)
+    if r.status != Status.LIMIT:
         return r
-    rest = None if time_limit is None else time_limit - (time.perf_counter() - t0)
-    r2 = astar(task, heuristic="lmcut", time_limit=rest)
+    r2 = astar(task, heuristic="lmcut", deadline=deadline)
     return PlanResult(
         r2.status,
         r2.plan,
         r2.cost,
-        r.expanded + r2.expanded,
-        time.perf_counter() - t0,
+        r2.exact,
         "builtin(blind+lmcut)",
+        time.perf_counter() - t0,
+        r2.reason,
+        r.expanded + r2.expanded,
     )
+
+
+def within(deadline: Deadline | None, seconds: float | None) -> Deadline:
+    """``deadline``, or the point ``seconds`` from now when that comes first (a step's own
+    limit inside the run's)."""
+    deadline = deadline if deadline is not None else NO_DEADLINE
+    if seconds is None:
+        return deadline
+    at = time.perf_counter() + seconds
+    if deadline.at is not None and deadline.at <= at:
+        return deadline
+    return Deadline(at, seconds)

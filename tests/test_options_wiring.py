@@ -1,0 +1,155 @@
+"""The tuning knobs reach the engines (``MegaSolver(options=...)``, ``--option``), the docs list
+every knob, planner calls answer with one result type and one status vocabulary, and a run
+that runs out of time says so instead of blaming its input."""
+
+from __future__ import annotations
+
+import json
+import re
+from dataclasses import fields
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+from helpers.minitasks import usar_like
+
+from mega_sat import api
+from mega_sat.cli.commands import main
+from mega_sat.deadline import Deadline, TimeLimitReached
+from mega_sat.errors import PlannerError, UsageError
+from mega_sat.options import Options, markdown_table
+from mega_sat.planners.node_planner import NodePlan, NodePlanner
+from mega_sat.search.astar import PlanResult
+from mega_sat.status import Status
+
+ROOT = Path(__file__).resolve().parent.parent
+USAR = ROOT / "domains" / "usar-fetch" / "p1"
+
+
+def test_cli_docs_list_exactly_the_options():
+    text = (ROOT / "docs" / "cli.md").read_text()
+    table = re.search(r"<!-- table: options -->\n(.*?)<!-- /table -->", text, re.S)
+    assert table is not None
+    listed = re.findall(r"^\| `(\w+)` \| `([^`]*)` \| (.+) \|$", table.group(1), re.M)
+    assert [name for name, _, _ in listed] == [f.name for f in fields(Options)]
+    assert table.group(1) == markdown_table()  # defaults and sentences as in the code
+
+
+def test_solver_hands_its_options_to_every_planner_call(monkeypatch):
+    """``blind_nodes`` reaches the built-in planner of the astar engine, MCE and verification;
+    the answers do not change."""
+    import mega_sat.search.astar as search
+
+    seen = []
+    real = search.solve_optimal
+
+    def spy(task, **kw):
+        seen.append(kw["blind_nodes"])
+        return real(task, **kw)
+
+    monkeypatch.setattr(search, "solve_optimal", spy)
+    task = usar_like()
+    plain = api.MegaSolver(task, engine="astar", planner="builtin").frontier()
+    n = len(seen)
+    tuned = api.MegaSolver(task, engine="astar", planner="builtin", options=Options(blind_nodes=7))
+    fr = tuned.frontier()
+    ex = tuned.explain()
+    tuned.verify(ex, producer="sat")
+    assert [(p.size, p.robot_cost) for p in fr.points] == [
+        (p.size, p.robot_cost) for p in plain.points
+    ]
+    assert n and set(seen[:n]) == {300_000} and len(seen) > n and set(seen[n:]) == {7}
+
+
+def test_sat_engine_takes_quick_nodes_and_core_factor():
+    task = usar_like()
+    plain = api.MegaSolver(task, planner="sat").frontier()
+    tuned = api.MegaSolver(
+        task, planner="sat", options=Options(quick_nodes=1, core_search_factor=0.5)
+    ).frontier()
+    assert [(p.selection, p.robot_cost) for p in tuned.points] == [
+        (p.selection, p.robot_cost) for p in plain.points
+    ]
+    assert tuned.stats["opt_by_quick_search"] <= plain.stats["opt_by_quick_search"]
+
+
+def test_solver_refuses_options_of_another_type():
+    with pytest.raises(UsageError, match="mega_sat.options.Options"):
+        api.MegaSolver(usar_like(), options={"quick_nodes": 1})
+
+
+@pytest.mark.parametrize("command", ["frontier", "solve", "explain", "verify", "plan"])
+def test_cli_option_pairs_are_checked(command, tmp_path):
+    extra = {"solve": ["--alpha", "1"], "verify": ["--explanation", "x", "--plan", "y"]}
+    res = CliRunner().invoke(
+        main, [command, "--task", str(USAR), *extra.get(command, []), "--option", "nope=1"]
+    )
+    lines = [ln for ln in res.output.splitlines() if ln.strip()]
+    assert res.exit_code == 2 and len(lines) == 1, res.output
+    assert lines[0].startswith("error: --option 'nope=1': unknown option 'nope'")
+
+
+def test_cli_options_change_no_answer():
+    def points(*extra):
+        res = CliRunner().invoke(main, ["frontier", "--task", str(USAR), "--json", *extra])
+        assert res.exit_code == 0, res.output
+        return [(p["explanation"], p["robot_cost"]) for p in json.loads(res.output)["frontier"]]
+
+    assert points("--option", "quick_nodes=1", "--option", "core-search-factor=0.1") == points()
+
+
+def test_one_result_type_and_status_for_planner_calls():
+    task = usar_like()
+    solver = api.MegaSolver(task)
+    for kind in ("builtin", "sat"):
+        r = NodePlanner(task, solver.family, kind).optimal(solver.family.robot_selection)
+        assert type(r) is PlanResult and r.status is Status.OPTIMAL and r.exact
+        assert r.status == "optimal" and r.planner == kind
+    assert NodePlan is PlanResult
+
+
+def _undecided(self, selection):
+    self.deadline.check()
+    return PlanResult(Status.TIMEOUT, None, None, False, self.kind, 0.0, "timeout")
+
+
+class _ExpiresSoon:
+    """A deadline that passes after a few looks at the clock."""
+
+    at = None
+    seconds = 1.0
+    limited = True
+
+    def __init__(self):
+        self.calls = 0
+
+    def expired(self) -> bool:
+        self.calls += 1
+        return self.calls > 3
+
+    def check(self) -> None:
+        if self.expired():
+            raise TimeLimitReached(self.seconds)
+
+    def remaining(self):
+        return None
+
+    def cap(self, seconds):
+        return seconds
+
+
+def test_mce_out_of_time_is_a_time_limit_not_bad_input(monkeypatch):
+    """A candidate whose optimum the planner could not decide is no evidence against the plan:
+    at the deadline MCE raises TimeLimitReached (exit 124), and without a deadline it says the
+    optimum was undecided, never that no explanation exists."""
+    from mega_sat.engines.mce import minimal_explanation
+
+    task = usar_like()
+    fam = api.MegaSolver(task).family
+    plan = NodePlanner(task, fam, "builtin").optimal(fam.robot_selection).plan
+    monkeypatch.setattr(NodePlanner, "optimal", _undecided)
+    # the robot's plan fails in the human model: candidates need an OPT call
+    with pytest.raises(PlannerError, match="not decided"):
+        minimal_explanation(task, fam, plan, deadline=Deadline())
+    with pytest.raises(TimeLimitReached):
+        minimal_explanation(task, fam, plan, deadline=_ExpiresSoon())
