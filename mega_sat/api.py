@@ -24,6 +24,7 @@ from mega_sat.deadline import Deadline
 from mega_sat.errors import UsageError
 from mega_sat.family import GroundFamily, PlanStep
 from mega_sat.loading import load_task, load_task_dir, load_task_from_strings
+from mega_sat.multi_task import MultiHumanTask, load_multi_task, load_multi_task_dir
 from mega_sat.planio import as_plan
 from mega_sat.progress import Progress
 from mega_sat.results import Explanation, Frontier, FrontierPoint, Solution, check_alpha, choose
@@ -40,6 +41,7 @@ __all__ = [
     "ENGINES",
     "EXPLANATION_KINDS",
     "MegaSolver",
+    "MultiHumanTask",
     "default_joint",
     "default_planner",
     "explain",
@@ -48,6 +50,8 @@ __all__ = [
     "load_task_dir",
     "load_task_from_strings",
     "load_task_from_up",
+    "load_multi_task",
+    "load_multi_task_dir",
     "load_update_costs",
     "solve",
     "verify",
@@ -349,14 +353,26 @@ class MegaSolver:
         return report
 
 
-def frontier(task: TwoModelTask, *, engine: str = "sat", **kw) -> Frontier:
+def _solver_for(task, **kw):
+    """:class:`MegaSolver`, or for several human models (a :class:`MultiHumanTask`) the
+    :class:`~mega_sat.multi_human.MultiHumanSolver`."""
+    if isinstance(task, MultiHumanTask):
+        from mega_sat.multi_human import MultiHumanSolver
+
+        return MultiHumanSolver(task, **kw)
+    return MegaSolver(task, **kw)
+
+
+def frontier(task: TwoModelTask | MultiHumanTask, *, engine: str = "sat", **kw) -> Frontier:
     """The MEGA frontier of ``task`` (paper property 4: answers every alpha)."""
-    return MegaSolver(task, engine=engine, **kw).frontier()
+    return _solver_for(task, engine=engine, **kw).frontier()
 
 
-def solve(task: TwoModelTask, alpha: float, *, engine: str = "sat", **kw) -> Solution:
+def solve(
+    task: TwoModelTask | MultiHumanTask, alpha: float, *, engine: str = "sat", **kw
+) -> Solution:
     """MEGA's plan and explanation for one ``alpha``."""
-    return MegaSolver(task, engine=engine, **kw).solve(alpha)
+    return _solver_for(task, engine=engine, **kw).solve(alpha)
 
 
 def explain(
@@ -368,8 +384,8 @@ def explain(
 
 
 def verify(
-    task: TwoModelTask, point: FrontierPoint | Explanation | None = None, **kw
+    task: TwoModelTask | MultiHumanTask, point: FrontierPoint | Explanation | None = None, **kw
 ) -> VerifyReport:
     """Independent check of an answer (see :mod:`mega_sat.verify`)."""
     solver_kw = {k: kw.pop(k) for k in ("engine", "planner", "update_costs") if k in kw}
-    return MegaSolver(task, **solver_kw).verify(point, **kw)
+    return _solver_for(task, **solver_kw).verify(point, **kw)
