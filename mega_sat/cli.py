@@ -381,7 +381,10 @@ def _load(task_dir, robot_domain, robot_problem, human_domain, human_problem, se
     from mega_sat.loading import load_task, resolve_task_dir
     from mega_sat.multi_task import load_cli_task
 
-    human_domain, human_problem = tuple(human_domain or ()), tuple(human_problem or ())
+    # the options repeat (several human models); other callers pass one path or None
+    human_domain, human_problem = (
+        (x,) if isinstance(x, str | Path) else tuple(x or ()) for x in (human_domain, human_problem)
+    )
     task = load_cli_task(
         task_dir, robot_domain, robot_problem, human_domain, human_problem, several=several
     )

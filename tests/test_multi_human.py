@@ -243,3 +243,29 @@ def test_every_selection_checked_once_at_most_per_projection():
         for c in itertools.combinations(range(n), k)
     }
     assert fr.stats["joint_searches"] <= len(projections)
+
+
+def test_an_unproven_optimum_clears_exact(monkeypatch):
+    # the horizon argument is the OPT oracle's, per human model: an optimum it cannot prove
+    # (zero-cost actions under --planner sat, the horizon cap) must surface as exact: no
+    from dataclasses import replace
+
+    from mega_sat.tiered_opt import TieredOpt
+
+    task = _usar_pair()
+    fams = [ground(t) for t in task.tasks]
+    proven = multi_frontier(task, fams)
+    assert proven.exact and not proven.notes
+    original = TieredOpt.optimal
+
+    def unproven(self, sel):
+        r = original(self, sel)
+        if self.family is fams[1] and sel:
+            return replace(r, exact=False, reason="horizon cap 200 < 300 steps needed")
+        return r
+
+    monkeypatch.setattr(TieredOpt, "optimal", unproven)
+    fr = multi_frontier(task, fams)
+    assert _pairs(fr.points) == _pairs(proven.points)
+    assert not fr.exact and fr.complete
+    assert any("OPT not proven optimal for human model 2" in n for n in fr.notes)
