@@ -40,13 +40,22 @@ def multi_human_tasks(
     return MultiHumanTask.from_tasks(tasks)
 
 
+STALE: dict[str | None, list[str | None]] = {
+    "path": [None, "rubble"],  # a new passage the commander does not know, or old rubble
+    "rough": [None, "path"],
+    "rubble": ["path", None],  # a corridor blocked since the commander's map was drawn
+    None: ["path", "rough"],
+}
+"""What a commander's stale map shows for a corridor the robot sees as the key."""
+
+
 @st.composite
 def multi_tradeoff_tasks(
     draw, humans: tuple[int, int] = (2, 3), max_delta: int = 6
 ) -> MultiHumanTask:
     """Route maps with trade-offs (as :func:`tradeoff_tasks.tradeoff_tasks`) and 2-3 human
-    maps, each corridor of each human map drawn on its own (biased to agree with the robot, or
-    to miss a corridor), so the commanders disagree with the robot and with each other.  A
+    maps, each corridor of each human map drawn on its own (agreeing with the robot, or stale:
+    a new passage missing, a blocked corridor still open), so the commanders disagree with the robot and with each other.  A
     long detour s-d0-d1-d2-g is open in every model: some plan is always explicable, and
     shorter routes cost explanations."""
     from tradeoff_tasks import _schemas
@@ -77,7 +86,7 @@ def multi_tradeoff_tasks(
     union: set[tuple[str, ...]] = set()
     for facts in human_facts:
         for a, b, rk in corridors:
-            hk = rk if draw(st.booleans()) else draw(st.sampled_from([*kinds, None]))
+            hk = rk if draw(st.booleans()) else draw(st.sampled_from(STALE[rk]))
             diff = {(k, a, b) for k in (rk, hk) if k} if hk != rk else set()
             if len(union | diff) > max_delta:
                 hk, diff = rk, set()

@@ -269,3 +269,15 @@ def test_an_unproven_optimum_clears_exact(monkeypatch):
     assert _pairs(fr.points) == _pairs(proven.points)
     assert not fr.exact and fr.complete
     assert any("OPT not proven optimal for human model 2" in n for n in fr.notes)
+
+
+@settings(max_examples=80, deadline=None, derandomize=True)
+@given(multi_tradeoff_tasks(), st.sampled_from([None, "builtin"]))
+def test_route_maps_with_trade_offs_equal_brute_force(task, planner):
+    # the commanders' maps on their own: these are the tasks with several frontier points
+    fams = [ground(t) for t in task.tasks]
+    got = _oracle(task, fams)
+    assert got is not None  # the detour is open for the robot
+    fr = multi_frontier(task, fams, planner=planner)
+    assert (fr.robot_optimal_cost, _pairs(fr.points)) == (got[0], _pairs(got[1]))
+    assert fr.exact
