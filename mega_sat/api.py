@@ -30,9 +30,11 @@ from mega_sat.model.lifted import PlanStep
 from mega_sat.model.task import TwoModelTask
 from mega_sat.options import Options
 from mega_sat.pddl.loading import load_task, load_task_dir, load_task_from_strings
+from mega_sat.pddl.multi_task import MultiHumanTask, load_multi_task, load_multi_task_dir
 from mega_sat.pddl.planio import as_plan
 from mega_sat.pddl.up_models import load_task_from_up
 from mega_sat.pddl.update_costs import UpdateCosts, cost_vector, load_update_costs
+from mega_sat.planners.node_planner import PLANNERS, sat_solver_names
 from mega_sat.results import Explanation, Frontier, FrontierPoint, Solution, check_alpha, choose
 
 ENGINES = ("sat", "astar")
@@ -42,6 +44,7 @@ __all__ = [
     "ENGINES",
     "EXPLANATION_KINDS",
     "MegaSolver",
+    "MultiHumanTask",
     "Options",
     "default_joint",
     "default_planner",
@@ -51,22 +54,12 @@ __all__ = [
     "load_task_dir",
     "load_task_from_strings",
     "load_task_from_up",
+    "load_multi_task",
+    "load_multi_task_dir",
     "load_update_costs",
     "solve",
     "verify",
 ]
-
-
-PLANNERS = ("builtin", "sat", "fd")
-
-
-def _sat_solver_names() -> tuple[str, ...]:
-    """The SAT solvers python-sat offers by name (``cadical195``, ``glucose4``, ...)."""
-    from pysat.solvers import SolverNames
-
-    return tuple(
-        sorted(n for names in vars(SolverNames).values() if isinstance(names, tuple) for n in names)
-    )
 
 
 _check_alpha = check_alpha  # the name the CLI imports
@@ -128,9 +121,9 @@ class MegaSolver:
             raise UsageError(f"unknown engine {engine!r} (choose from {', '.join(ENGINES)})")
         if planner is not None and planner not in PLANNERS:
             raise UsageError(f"unknown planner {planner!r} (choose from {', '.join(PLANNERS)})")
-        if not isinstance(solver, str) or solver not in _sat_solver_names():
+        if not isinstance(solver, str) or solver not in sat_solver_names():
             raise UsageError(
-                f"unknown SAT solver {solver!r} (choose from {', '.join(_sat_solver_names())})"
+                f"unknown SAT solver {solver!r} (choose from {', '.join(sat_solver_names())})"
             )
         if hitting_set not in ("rc2", "ilp"):
             raise UsageError(f"unknown hitting-set solver {hitting_set!r} (choose rc2 or ilp)")
@@ -372,14 +365,26 @@ class MegaSolver:
         return report
 
 
-def frontier(task: TwoModelTask, *, engine: str = "sat", **kw) -> Frontier:
+def _solver_for(task, **kw):
+    """:class:`MegaSolver`, or for several human models (a :class:`MultiHumanTask`) the
+    :class:`~mega_sat.engines.multi_human.MultiHumanSolver`."""
+    if isinstance(task, MultiHumanTask):
+        from mega_sat.engines.multi_human import MultiHumanSolver
+
+        return MultiHumanSolver(task, **kw)
+    return MegaSolver(task, **kw)
+
+
+def frontier(task: TwoModelTask | MultiHumanTask, *, engine: str = "sat", **kw) -> Frontier:
     """The MEGA frontier of ``task`` (paper property 4: answers every alpha)."""
-    return MegaSolver(task, engine=engine, **kw).frontier()
+    return _solver_for(task, engine=engine, **kw).frontier()
 
 
-def solve(task: TwoModelTask, alpha: float, *, engine: str = "sat", **kw) -> Solution:
+def solve(
+    task: TwoModelTask | MultiHumanTask, alpha: float, *, engine: str = "sat", **kw
+) -> Solution:
     """MEGA's plan and explanation for one ``alpha``."""
-    return MegaSolver(task, engine=engine, **kw).solve(alpha)
+    return _solver_for(task, engine=engine, **kw).solve(alpha)
 
 
 def explain(
@@ -391,8 +396,8 @@ def explain(
 
 
 def verify(
-    task: TwoModelTask, point: FrontierPoint | Explanation | None = None, **kw
+    task: TwoModelTask | MultiHumanTask, point: FrontierPoint | Explanation | None = None, **kw
 ) -> VerifyReport:
     """Independent check of an answer (see :mod:`mega_sat.engines.verify`)."""
     solver_kw = {k: kw.pop(k) for k in ("engine", "planner", "update_costs", "options") if k in kw}
-    return MegaSolver(task, **solver_kw).verify(point, **kw)
+    return _solver_for(task, **solver_kw).verify(point, **kw)

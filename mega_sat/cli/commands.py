@@ -350,11 +350,17 @@ def task_options(fn):
         ),
         click.option("--robot-domain", type=click.Path(), default=None),
         click.option("--robot-problem", type=click.Path(), default=None),
-        click.option("--human-domain", type=click.Path(), default=None),
+        click.option(
+            "--human-domain",
+            type=click.Path(),
+            multiple=True,
+            help="Repeat (with --human-problem, paired in order) for several human models "
+            "(solve, frontier).",
+        ),
         click.option(
             "--human-problem",
             type=click.Path(),
-            default=None,
+            multiple=True,
             help="Defaults to the robot problem.",
         ),
         click.option("-v", "--verbose", is_flag=True, help="Report grounding sizes and stats."),
@@ -390,8 +396,21 @@ def _options(kw):
     return Options().with_pairs(kw.pop("option_pairs", ()))
 
 
-def _load(task_dir, robot_domain, robot_problem, human_domain, human_problem):
+def _load(task_dir, robot_domain, robot_problem, human_domain, human_problem, several=False):
     from mega_sat.pddl.loading import load_task, resolve_task_dir
+    from mega_sat.pddl.multi_task import load_cli_task
+
+    # the options repeat (several human models); other callers pass one path or None
+    human_domain, human_problem = (
+        (x,) if isinstance(x, str | Path) else tuple(x or ()) for x in (human_domain, human_problem)
+    )
+    task = load_cli_task(
+        task_dir, robot_domain, robot_problem, human_domain, human_problem, several=several
+    )
+    if task is not None:
+        return task
+    human_domain = human_domain[0] if human_domain else None
+    human_problem = human_problem[0] if human_problem else None
 
     if task_dir:
         if any((robot_domain, robot_problem, human_domain, human_problem)):
@@ -417,13 +436,14 @@ def _load(task_dir, robot_domain, robot_problem, human_domain, human_problem):
     return load_task(robot_domain, robot_problem, human_domain, human_problem)
 
 
-def _task_from(kw):
+def _task_from(kw, several=False):
     return _load(
         kw.pop("task_dir"),
         kw.pop("robot_domain"),
         kw.pop("robot_problem"),
         kw.pop("human_domain"),
         kw.pop("human_problem"),
+        several,
     )
 
 
@@ -807,16 +827,28 @@ def _output_folder(target, force):
     return None if target is None else OutputFolder(target, force=force)
 
 
-def _solver(kw, run):
-    """The task and the engine options of ``solve`` / ``frontier`` as one MegaSolver."""
+def _solver(kw, run, write_model=None):
+    """The task and the engine options of ``solve`` / ``frontier`` as one MegaSolver (a
+    :class:`~mega_sat.engines.multi_human.MultiHumanSolver` for several human models)."""
     from mega_sat.api import MegaSolver
+    from mega_sat.model.task import TwoModelTask
 
     engine_kw = {k: kw.pop(k) for k in ("engine", "planner", "joint", "hitting_set")}
     costs = _read_update_costs(kw.pop("update_costs"))
     options = _options(kw)
-    s = MegaSolver(
-        _task_from(kw), deadline=run.deadline, update_costs=costs, options=options, **engine_kw
-    )
+    task = _task_from(kw, several=True)
+    if not isinstance(task, TwoModelTask):  # several human models: their own engine
+        from mega_sat.engines.multi_human import MultiHumanSolver
+
+        if write_model is not None:
+            raise UsageError("--write-model takes one human model")
+        s = MultiHumanSolver(
+            task, deadline=run.deadline, update_costs=costs, options=options, **engine_kw
+        )
+    else:
+        s = MegaSolver(
+            task, deadline=run.deadline, update_costs=costs, options=options, **engine_kw
+        )
     run.watch(s.progress)
     return s
 
@@ -824,9 +856,11 @@ def _solver(kw, run):
 def _point_text(p, c_robot, alpha=None, objective=None) -> list[str]:
     from mega_sat.model.lifted import step_str
 
+    costs = getattr(p, "human_costs", None)  # several human models: one cost each
+    human = f"human cost {p.human_cost}" if not costs else f"human costs {costs}"
     lines = [
         f"Plan ({len(p.plan)} steps, robot cost {p.robot_cost}, "
-        f"human cost {p.human_cost}, explicability cost {p.robot_cost - c_robot}):"
+        f"{human}, explicability cost {p.robot_cost - c_robot}):"
     ]
     lines += [f"  {step_str(s)}" for s in p.plan]
     if p.explanation:
@@ -962,7 +996,7 @@ def solve(run, alpha, as_json, do_verify, write_model, force, verbose, **kw):
 
     a = _check_alpha(alpha)  # the text as typed, so the error shows it unchanged
     write_model = _output_folder(write_model, force)
-    s = _solver(kw, run)
+    s = _solver(kw, run, write_model)
     t0 = time.perf_counter()
 
     def work():
@@ -1017,7 +1051,7 @@ def frontier(run, as_json, do_verify, write_model, force, verbose, plot=None, **
 
         plot_target = check_plot_target(plot, force=force)  # before solving, not after
     title = str(kw.get("task_dir") or kw.get("robot_problem") or "")
-    s = _solver(kw, run)
+    s = _solver(kw, run, write_model)
 
     def work():
         _verbose_family(s, verbose)

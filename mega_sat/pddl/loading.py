@@ -6,6 +6,7 @@ The file paths travel with the task (``TwoModelTask.sources``) so that a later m
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 from mega_sat.errors import UsageError
@@ -130,6 +131,14 @@ def resolve_task_dir(d: str | Path) -> dict[str, Path]:
     task_dir = Path(d)
     if not task_dir.is_dir():
         raise UsageError("task directory not found", path=str(task_dir))
+    if any(c.is_dir() and re.fullmatch(r"human-\d+", c.name) for c in task_dir.iterdir()):
+        # several human models: loading one of them here would silently drop the others
+        raise UsageError(
+            "the task directory holds human-K folders (several human models): load it with "
+            "mega_sat.pddl.multi_task.load_multi_task_dir; of the commands, only 'solve' and "
+            "'frontier' take several human models",
+            path=str(d),
+        )
     out: dict[str, Path] = {}
     robot_problem = task_dir / TASK_FILES["robot_problem"]
     if not robot_problem.is_file():

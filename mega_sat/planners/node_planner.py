@@ -25,6 +25,16 @@ from mega_sat.status import Status
 
 PLANNERS = ("builtin", "sat", "fd")
 
+
+def sat_solver_names() -> tuple[str, ...]:
+    """The SAT solvers python-sat offers by name (``cadical195``, ``glucose4``, ...)."""
+    from pysat.solvers import SolverNames
+
+    return tuple(
+        sorted(n for names in vars(SolverNames).values() if isinstance(names, tuple) for n in names)
+    )
+
+
 NodePlan = PlanResult
 """The earlier name of a planner call's answer, kept for code that imports it."""
 
