@@ -316,7 +316,8 @@ def test_plot_of_an_incomplete_frontier_says_so(tmp_path):
 
 
 def test_plot_is_skipped_after_a_stop(tmp_path):
-    from mega_sat.cli.commands import _plot, _Run
+    from mega_sat.cli.app import _Run
+    from mega_sat.cli.engine_commands import _plot
     from mega_sat.deadline import TimeLimitReached
 
     run = _Run(as_json=False)
