@@ -181,7 +181,7 @@ class MegaSolver:
         family = self.family
         orc = SatOracles(family, solver=self.solver)
         if self.deadline.limited:
-            orc.set_deadline(self.deadline.at)
+            orc.deadline = self.deadline
         self.deadline.check()
         return orc
 

@@ -109,9 +109,9 @@ def sat_frontier(
     progress = progress if progress is not None else Progress()
     progress.start("sat", tuple(u.name for u in task.delta), update_costs)
     orc = oracles if oracles is not None else SatOracles(family, solver=solver)
-    earlier_deadline = getattr(orc, "deadline", None)
-    if stop_at is not None and hasattr(orc, "set_deadline"):
-        orc.set_deadline(stop_at)  # interrupts a SAT call still running at the deadline
+    earlier_deadline = orc.deadline
+    if deadline.limited:
+        orc.deadline = deadline  # interrupts a SAT call still running at the deadline
     # the explicit planners get what is left of the time limit (the SAT oracle has the deadline
     # itself); a planner call cut by the deadline raises TimeLimitReached
     opt_planner = NodePlanner(task, family, planner, oracles=orc, deadline=deadline)
@@ -128,8 +128,7 @@ def sat_frontier(
     try:
         robot = opt_of(family.robot_selection)
     except (OracleInterrupted, TimeLimitReached) as e:
-        if hasattr(orc, "set_deadline"):
-            orc.set_deadline(earlier_deadline)
+        orc.deadline = earlier_deadline
         if isinstance(e, TimeLimitReached) or not deadline.expired():
             raise
         raise TimeLimitReached(deadline.seconds) from None  # nothing proven to report
@@ -248,7 +247,7 @@ def sat_frontier(
                 # allow) c* are proven lower bounds that spare the final UNSAT call
                 t_sat = time.perf_counter()
                 res = (
-                    _UNDECIDED
+                    None
                     if joint == "search"
                     else orc.joint(
                         sel,
@@ -262,7 +261,7 @@ def sat_frontier(
                 )
                 t_sat = time.perf_counter() - t_sat
                 ts = tight_support(family, sel, opt.plan)
-                if res.status == "unknown":
+                if res is None or not res.status.decided:
                     stats["joint_searches"] += 1
                     t_search = time.perf_counter()
                     res = search_joint(
@@ -272,7 +271,7 @@ def sat_frontier(
                         bound,
                         opt.cost,
                         keep=frozenset(i for i, _ in ts),
-                        deadline=stop_at,
+                        deadline=deadline,
                     )
                     if res is None:
                         raise OracleInterrupted
@@ -307,8 +306,8 @@ def sat_frontier(
             _learn(hs, exclusion_clause(sel, on), stats)
     finally:
         hs.close()
-        if stop_at is not None and hasattr(orc, "set_deadline"):
-            orc.set_deadline(earlier_deadline)
+        if deadline.limited:
+            orc.deadline = earlier_deadline
     pts = pareto_filter(points)
     return Frontier(
         engine="sat",
@@ -330,7 +329,7 @@ def sat_frontier(
             "joint": joint,
             "joint_conflict_budget_final": budget.conflicts,
             "hitting_set_calls": hs.calls,
-            **getattr(orc, "stats", {}),
+            **orc.stats.as_dict(),
         },
         update_costs=update_costs,
         next_cost_lower_bound=lower_bound,
@@ -360,13 +359,6 @@ class _Budget:
             self.conflicts = max(1_000, self.conflicts // 2)
         else:
             self.conflicts = min(160_000, self.conflicts * 2)
-
-
-class _Undecided:
-    status = "unknown"
-
-
-_UNDECIDED = _Undecided()
 
 
 def _learn(hs, clause, stats) -> None:

@@ -80,7 +80,7 @@ class NodePlanner:
 
             self._oracles = SatOracles(self.family, solver=self._solver)
             if self.deadline.limited:
-                self._oracles.set_deadline(self.deadline.at)
+                self._oracles.deadline = self.deadline
         return self._oracles
 
     def optimal(self, selection: frozenset[int]) -> NodePlan:
@@ -123,8 +123,9 @@ class NodePlanner:
             )
         if self.kind == "sat":
             r = self.oracles.opt(sel)
+            status = r.status if r.status.decided else "unknown"
             return NodePlan(
-                r.status, r.plan, r.cost, r.exact, "sat", time.perf_counter() - t0, r.reason
+                status, r.plan, r.cost, r.exact, "sat", time.perf_counter() - t0, r.reason
             )
         from mega_sat.pddl.writer import domain_to_pddl, problem_to_pddl
         from mega_sat.planners.fast_downward import fd_plan
