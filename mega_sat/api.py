@@ -185,11 +185,9 @@ class MegaSolver:
         from mega_sat.sat.oracles import SatOracles
 
         family = self.family
-        # after the sat rewrite: SatOracles(family, solver=, options=self.options,
-        # deadline=self.deadline), and no set_deadline
-        orc = SatOracles(family, solver=self.solver)
+        orc = SatOracles(family, solver=self.solver, options=self.options)
         if self.deadline.limited:
-            orc.set_deadline(self.deadline.at)
+            orc.deadline = self.deadline
         self.deadline.check()
         return orc
 

@@ -63,6 +63,49 @@ class Options:
         default=True,
         metadata={"doc": "OPT asks for a step bound before its cost bounds"},
     )
+    partial_order: bool = field(
+        default=False,
+        metadata={
+            "doc": "partial-order reduction in the SAT encodings (adjacent independent actions "
+            "in index order); off: its role variables and clauses grow every step"
+        },
+    )
+    dominance_trial_conflicts: int = field(
+        default=300,
+        metadata={"doc": "conflicts of the short SAT call that first tries a dominance-core trial"},
+    )
+    counting_trials: int = field(
+        default=4,
+        metadata={
+            "doc": "operator-counting bounds tried on a task before they are switched off, "
+            "unless one beat the cheaper bounds"
+        },
+    )
+    search_first_hits: int = field(
+        default=4,
+        metadata={
+            "doc": "OPT's lowered-cost searches that run before they must keep shortening "
+            "the horizon to go on"
+        },
+    )
+    search_first_steps: int = field(
+        default=2,
+        metadata={
+            "doc": "horizon steps each lowered-cost search must save on average to keep "
+            "running when OPT already has a plan"
+        },
+    )
+    search_first_misses: int = field(
+        default=2,
+        metadata={
+            "doc": "lowered-cost searches that may run out of nodes before they stop, "
+            "once they miss more often than they hit"
+        },
+    )
+    joint_core_min_nodes: int = field(
+        default=500,
+        metadata={"doc": "least node limit of the explicit JOINT search that confirms a core"},
+    )
     core_search_factor: float = field(
         default=3.0,
         metadata={

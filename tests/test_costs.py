@@ -250,10 +250,10 @@ def test_opt_and_joint_past_the_horizon_cap_are_answered_by_search():
         r = orc.opt(frozenset())
         assert r.status == "optimal" and r.cost == 202 and r.exact, r.reason
         assert "horizon cap" in r.reason and "explicit-state search" in r.reason
-        assert orc.stats["sat_opt_by_search"] == 1
+        assert orc.stats.opt_by_search == 1
         j = orc.joint(frozenset(), None, 10**12)
         assert j.exact and j.status == "plan" and j.robot_cost == 202
-        assert "horizon cap" in j.reason and orc.stats["sat_joint_by_search"] == 1
+        assert "horizon cap" in j.reason and orc.stats.joint_by_search == 1
 
 
 @SETTINGS

@@ -15,8 +15,11 @@ from helpers.sat_families import (
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from mega_sat.deadline import Deadline
 from mega_sat.ground.family import GroundAction, GroundFamily
+from mega_sat.options import Options
 from mega_sat.sat.oracles import JointResult, OptResult, SatOracles
+from mega_sat.status import Status
 
 SETTINGS = settings(
     max_examples=150, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck)
@@ -37,7 +40,12 @@ def check_opt(fam: GroundFamily, orc: SatOracles, sel: frozenset[int]) -> OptRes
 
 @pytest.mark.parametrize(
     "options",
-    [{}, {"step_first": False}, {"symmetry_breaking": False}, {"unary_max_units": 0}],
+    [
+        {},
+        {"options": Options(step_first=False)},
+        {"symmetry_breaking": False},
+        {"unary_max_units": 0},
+    ],
     ids=["step-queries", "cost-only", "step-queries-no-symmetry-breaking", "binary-costs"],
 )
 @SETTINGS
@@ -54,7 +62,7 @@ def test_opt_matches_dijkstra_and_astar(options, fam: GroundFamily, data):
             assert a.cost == r.cost and (a.status == "unsolvable") == (r.status == "unsolvable")
         rob = orc.robot_optimal()
         assert rob == orc.opt(fam.robot_selection)
-        assert orc.stats["sat_opt_vars"] > 0 and orc.stats["sat_opt_calls"] >= 1
+        assert orc.stats.opt_vars > 0 and orc.stats.opt_calls >= 1
 
 
 @SETTINGS
@@ -118,7 +126,7 @@ def _chain(n: int) -> GroundFamily:
 
 def test_horizon_cap_is_reported_not_hidden():
     fam = _chain(8)
-    with SatOracles(fam, horizon_cap=4) as orc:
+    with SatOracles(fam, options=Options(horizon_cap=4)) as orc:
         r = orc.opt(frozenset())
         # the SAT search cannot reach 8 steps; the explicit-search fallback decides exactly
         assert r.status == "optimal" and r.cost == 8 and r.exact
@@ -127,14 +135,14 @@ def test_horizon_cap_is_reported_not_hidden():
         j = orc.joint(frozenset(), None, 8)
         assert j.exact and j.status == "plan" and j.robot_cost == 8
         assert "horizon cap" in j.reason and "explicit search" in j.reason
-        assert orc.stats["sat_joint_by_search"] == 1
+        assert orc.stats.joint_by_search == 1
         assert orc.joint(frozenset(), None, 7).core == frozenset()
         # on a partial assignment there is no search: SAT at the cap, marked not exact
         part = orc.joint_lits([], None, 8)
         assert not part.exact and "horizon cap" in part.reason
-    with SatOracles(fam, horizon_cap=4, fallback_node_limit=2) as orc:
+    with SatOracles(fam, options=Options(horizon_cap=4, fallback_node_limit=2)) as orc:
         r = orc.opt(frozenset())
-        assert r.status == "unknown" and not r.exact
+        assert r.status == Status.LIMIT and not r.exact
     with SatOracles(fam) as orc:
         assert orc.opt(frozenset()).cost == 8
         j = orc.joint(frozenset(), None, 8)
@@ -167,13 +175,13 @@ def test_horizon_cap_fallback_stops_at_the_deadline():
         atoms=fam.atoms + tuple((f"q{i}",) for i in range(k)),
         actions=fam.actions + switches,
     )
-    with SatOracles(fam, horizon_cap=4, operator_counting=False) as orc:
+    with SatOracles(fam, options=Options(horizon_cap=4), operator_counting=False) as orc:
         t0 = time.perf_counter()
-        orc.set_deadline(t0 + 0.3)
+        orc.deadline = Deadline(t0 + 0.3)
         with pytest.raises(OracleInterrupted):
             orc.opt(frozenset())
         assert time.perf_counter() - t0 < 2.0
-        assert frozenset() not in orc._opt_cache
+        assert orc.opt_oracle.cached(frozenset()) is None
 
 
 def test_core_is_minimized():
@@ -217,7 +225,7 @@ def test_usar_fetch_domain(problem):
             j = orc.joint(sel, None, r.cost)
             if j.status == "plan":
                 assert plan_cost(fam.specialize(sel), j.plan) == j.human_cost == r.cost
-        assert orc.stats["sat_max_call_time_s"] < 0.5
+        assert orc.stats.max_call_time_s < 0.5
 
 
 @SETTINGS
@@ -254,10 +262,10 @@ def test_bad_hint_is_ignored_and_good_hint_is_used():
         plan = tuple(("step", str(i)) for i in range(4))
         r = orc.joint(frozenset(), None, 4, hints=[plan[:2], (("step", "9"),), plan[::-1]])
         assert r.status == "plan" and r.plan == plan and r.calls >= 1
-        calls = orc.stats["sat_solver_calls"]
+        calls = orc.stats.solver_calls
         r = orc.joint(frozenset(), None, 4, hints=[plan], robot_lower_bound=4)
         assert r.status == "plan" and r.plan == plan and r.robot_cost == 4 and r.calls == 0
-        assert orc.stats["sat_solver_calls"] == calls  # the hint met the bound: no SAT call
+        assert orc.stats.solver_calls == calls  # the hint met the bound: no SAT call
         r = orc.joint(frozenset(), 3, 4, robot_lower_bound=4)
         assert r.status == "infeasible" and r.core == frozenset() and r.exact
 
@@ -269,21 +277,21 @@ def test_interrupt_and_deadline_leave_oracles_usable():
 
     fam = _chain(6)
     with SatOracles(fam) as orc:
-        orc.set_deadline(time.perf_counter())
+        orc.deadline = Deadline(time.perf_counter())
         with pytest.raises(OracleInterrupted):
             orc.joint(frozenset(), None, 6)
         with pytest.raises(OracleInterrupted):  # still past the deadline
             orc.opt(frozenset())
-        orc.set_deadline(None)
+        orc.deadline = None
         assert orc.joint(frozenset(), None, 6).robot_cost == 6
         orc.interrupt()
         with pytest.raises(OracleInterrupted):
             orc.joint(frozenset(), None, 5)
         assert orc.joint(frozenset(), None, 5).core == frozenset()
         assert orc.opt(frozenset()).cost == 6
-        orc.set_deadline(time.perf_counter() + 60)  # a far deadline changes nothing
+        orc.deadline = Deadline(time.perf_counter() + 60)  # a far deadline changes nothing
         assert orc.joint(frozenset(), None, 6).status == "plan"
-        orc.set_deadline(None)
+        orc.deadline = None
 
 
 def _add_pigeonhole(orc: SatOracles, n: int = 11, m: int = 10) -> int:
@@ -294,7 +302,7 @@ def _add_pigeonhole(orc: SatOracles, n: int = 11, m: int = 10) -> int:
     v = [[top + i * m + j + 1 for j in range(m)] for i in range(n)]
     act = top + n * m + 1
     orc.joint_enc.top += n * m + 1
-    s = orc._joint_solver
+    s = orc.solving.joint_solver
     for i in range(n):
         s.add_clause([-act, *v[i]])
     for j in range(m):
@@ -312,15 +320,15 @@ def test_deadline_interrupts_a_long_call(solver):
     from mega_sat.sat.oracles import OracleInterrupted
 
     fam = _chain(3)
-    with SatOracles(fam, solver=solver, solve_chunk=50) as orc:
+    with SatOracles(fam, solver=solver, options=Options(solve_chunk=50)) as orc:
         act = _add_pigeonhole(orc)
-        s = orc._joint_solver
+        s = orc.solving.joint_solver
         t0 = time.perf_counter()
-        orc.set_deadline(t0 + 0.3)
+        orc.deadline = Deadline(t0 + 0.3)
         with pytest.raises(OracleInterrupted):
-            orc._solve(s, [act])
+            orc.solving.solve(s, [act])
         assert time.perf_counter() - t0 < 5
-        orc.set_deadline(None)
+        orc.deadline = None
         # the oracle still answers after an interrupt (the pigeonhole switched off first: left
         # free, its guard may be decided true and the solver would grind on it)
         s.add_clause([-act])
@@ -336,15 +344,15 @@ def test_cadical_chunks_follow_the_deadline_not_the_chunk_cap():
 
     from mega_sat.sat.oracles import OracleInterrupted
 
-    with SatOracles(_chain(3), solver="cadical195", solve_chunk=10**9) as orc:
+    with SatOracles(_chain(3), solver="cadical195", options=Options(solve_chunk=10**9)) as orc:
         act = _add_pigeonhole(orc, 12, 11)
         t0 = time.perf_counter()
-        orc.set_deadline(t0 + 0.3)
+        orc.deadline = Deadline(t0 + 0.3)
         with pytest.raises(OracleInterrupted):
-            orc._solve(orc._joint_solver, [act])
+            orc.solving.solve(orc.solving.joint_solver, [act])
         assert time.perf_counter() - t0 < 1.5
-        orc.set_deadline(None)
-        orc._joint_solver.add_clause([-act])
+        orc.deadline = None
+        orc.solving.joint_solver.add_clause([-act])
         assert orc.joint(frozenset(), None, 3).robot_cost == 3
 
 
@@ -355,15 +363,15 @@ def test_chunk_sizes_do_not_follow_the_clock_without_a_deadline():
     import time
 
     with SatOracles(_chain(3), solver="cadical195") as orc:
-        s = orc._opt_solver
-        sizes = [orc._chunk(s, i) for i in range(8)]
+        s = orc.solving.opt_solver
+        sizes = [orc.solving.chunk(s, i) for i in range(8)]
         assert sizes == [1000, 2000, 3000, 4000, 5000, 5000, 5000, 5000]
         for rate in (1e-7, 1e-3):  # a fast and a slow machine
-            orc._rate[id(s)] = rate
-            assert [orc._chunk(s, i) for i in range(8)] == sizes
-        orc.set_deadline(time.perf_counter() + 0.5)
-        assert orc._chunk(s, 4) <= 500  # 1 ms per conflict: at most 0.5 s of work left
-        orc.set_deadline(None)
+            orc.solving.rate[id(s)] = rate
+            assert [orc.solving.chunk(s, i) for i in range(8)] == sizes
+        orc.deadline = Deadline(time.perf_counter() + 0.5)
+        assert orc.solving.chunk(s, 4) <= 500  # 1 ms per conflict: at most 0.5 s of work left
+        orc.deadline = None
 
 
 def _same_costs(fam: GroundFamily) -> GroundFamily:
@@ -394,10 +402,12 @@ def test_joint_below_the_human_optimum_under_dominance_has_sound_cores(fam, data
         return
     rb = data.draw(st.integers(c_robot, c_star - 1))
     hb = data.draw(st.integers(c_star, c_star + 2))
-    with SatOracles(fam, operator_counting=counting, dominance_conflict_budget=budget) as orc:
-        assert orc._always_dominates
+    with SatOracles(
+        fam, operator_counting=counting, options=Options(dominance_conflict_budget=budget)
+    ) as orc:
+        assert orc.joint_oracle.always_dominates
         r = orc.joint(sel, rb, hb, human_lower_bound=c_star)
-        assert orc.stats.get("sat_joint_by_dominance") == 1
+        assert orc.stats.joint_by_dominance == 1
         assert r.status == "infeasible" and r.exact and joint_brute(fam, sel, rb, hb) is None
         if budget == 0 and not counting:
             assert r.core == {(i, i in sel) for i in range(fam.n_updates)} and r.calls == 0
@@ -413,7 +423,7 @@ def test_joint_below_the_human_optimum_under_dominance_has_sound_cores(fam, data
         if c_other is not None and c_other > rb:
             again = orc.joint(other, rb, c_other, human_lower_bound=c_other)
             assert again.status == "infeasible" and again.core == r.core and again.calls == 0
-            assert orc.stats["sat_joint_core_reused"] == 1
+            assert orc.stats.joint_core_reused == 1
 
 
 def test_joint_by_dominance_on_barman():
@@ -429,7 +439,7 @@ def test_joint_by_dominance_on_barman():
     with SatOracles(fam) as orc:
         c = orc.opt(frozenset()).cost
         r = orc.joint(frozenset(), c - 1, c, human_lower_bound=c)
-        assert r.status == "infeasible" and r.core and orc.stats["sat_joint_by_dominance"] == 1
+        assert r.status == "infeasible" and r.core and orc.stats.joint_by_dominance == 1
         assert orc.joint_lits(r.core, c - 1, c).status == "infeasible"
         assert orc.joint(frozenset(), c - 1, c).status == "infeasible"  # the two-copy answer
 
@@ -444,7 +454,7 @@ def test_symmetry_breaking_keeps_opt_and_joint_exact(partial_order, fam: GroundF
     from mega_sat.sat.symmetry import object_swaps
 
     assert [(s.a, s.b) for s in object_swaps(fam)] == [("oa", "ob")]
-    with SatOracles(fam, partial_order=partial_order) as orc:
+    with SatOracles(fam, options=Options(partial_order=partial_order)) as orc:
         assert orc.opt_enc.swaps
         sel = data.draw(selections(fam.n_updates))
         check_opt(fam, orc, sel)
@@ -465,7 +475,7 @@ def test_symmetry_breaking_keeps_opt_and_joint_exact(partial_order, fam: GroundF
 def test_opt_with_the_exact_extra_cost_horizon_stays_exact(fam: GroundFamily, data):
     """``opt_probe_budget=0`` sends every final proof through the explicit lower bound on the
     cost above ``N * c_min`` (a shorter horizon); costs must still be the optimum."""
-    with SatOracles(fam, opt_probe_budget=0) as orc:
+    with SatOracles(fam, options=Options(opt_probe_budget=0)) as orc:
         for _ in range(3):
             r = check_opt(fam, orc, data.draw(selections(fam.n_updates)))
             if r.status == "optimal" and r.cost and fam.min_cost > 0:
@@ -483,11 +493,11 @@ def test_joint_by_dominance_cores_from_operator_counting_on_rover():
 
     d = Path(__file__).resolve().parent.parent / "domains" / "rover-martian" / "p3"
     fam = ground(load_task(**resolve_task_dir(d)))
-    with SatOracles(fam, dominance_conflict_budget=0) as orc:
+    with SatOracles(fam, options=Options(dominance_conflict_budget=0)) as orc:
         c = orc.opt(frozenset()).cost
         r = orc.joint(frozenset(), c - 1, c, human_lower_bound=c)
         assert r.status == "infeasible" and r.exact and r.calls == 0
-        assert len(r.core) < fam.n_updates and orc.stats["sat_counting_calls"] > 1
+        assert len(r.core) < fam.n_updates and orc.stats.counting_calls > 1
         for other in agreeing(r.core, fam.n_updates):
             best = astar(fam.specialize(other), heuristic="blind")
             assert best.status == "optimal" and best.cost > c - 1
@@ -507,17 +517,21 @@ def test_lowered_cost_search_with_a_plan_runs_only_while_it_shortens_horizons():
     fam = ground(load_task(**resolve_task_dir(d)))
     with SatOracles(fam) as orc:
         task = orc.task(frozenset())
-        assert orc._search_first(task, True) and orc._search_first(task, False)
+        assert orc.opt_oracle.search_first(task, True) and orc.opt_oracle.search_first(task, False)
         r = orc.opt(frozenset())
         assert r.status == "optimal" and r.cost == 31 and r.exact
-        assert orc.stats["sat_search_hits"] == 1
-        assert orc.stats["sat_search_steps_saved"] == 5
-        orc._searches_hit, orc._search_steps_saved = 6, 11
-        assert not orc._search_first(task, True) and orc._search_first(task, False)
-        orc._search_steps_saved = 12
-        assert orc._search_first(task, True)
-        orc._searches_missed = 7
-        assert not orc._search_first(task, True) and not orc._search_first(task, False)
+        assert orc.stats.search_hits == 1
+        assert orc.stats.search_steps_saved == 5
+        orc.opt_oracle.searches_hit, orc.opt_oracle.search_steps_saved = 6, 11
+        assert not orc.opt_oracle.search_first(task, True) and orc.opt_oracle.search_first(
+            task, False
+        )
+        orc.opt_oracle.search_steps_saved = 12
+        assert orc.opt_oracle.search_first(task, True)
+        orc.opt_oracle.searches_missed = 7
+        assert not orc.opt_oracle.search_first(task, True) and not orc.opt_oracle.search_first(
+            task, False
+        )
 
 
 @pytest.mark.parametrize("problem", ["rover-martian/p1", "barman-bar/p1"])
@@ -538,13 +552,13 @@ def test_step_queries_keep_opt_exact_on_shipped_problems(problem):
     n = fam.n_updates
     sels = [frozenset(c) for r in range(4) for c in itertools.combinations(range(n), r)]
     found_shorter = cost_after_bound = 0
-    with SatOracles(fam) as new, SatOracles(fam, step_first=False) as old:
+    with SatOracles(fam) as new, SatOracles(fam, options=Options(step_first=False)) as old:
         for sel in sels:
-            queries = new.stats.get("sat_step_queries", 0)
-            bounds = new.stats.get("sat_step_bounds", 0)
+            queries = new.stats.step_queries or 0
+            bounds = new.stats.step_bounds or 0
             r = new.opt(sel)
-            queries = new.stats.get("sat_step_queries", 0) - queries
-            bounds = new.stats.get("sat_step_bounds", 0) - bounds
+            queries = (new.stats.step_queries or 0) - queries
+            bounds = (new.stats.step_bounds or 0) - bounds
             found_shorter += queries > bounds
             cost_after_bound += bounds > 0 and r.reason == "proven by SAT"
             o = old.opt(sel)
@@ -552,5 +566,75 @@ def test_step_queries_keep_opt_exact_on_shipped_problems(problem):
             if len(sel) <= 2:
                 a = astar(fam.specialize(sel), heuristic="lmcut")
                 assert r.cost == a.cost, sorted(sel)
-        assert "sat_step_queries" not in old.stats
+        assert old.stats.step_queries is None
     assert found_shorter if problem.startswith("rover") else cost_after_bound
+
+
+def test_observer_sees_every_call_with_its_costs_and_may_limit_it():
+    """The observer hook: ``begin`` before and ``end`` after every OPT and JOINT call (also one
+    that raises), with what was asked, the answer, conflicts, the largest horizon asked and the
+    work seconds; a deadline returned by ``begin`` limits that call only."""
+    import time
+
+    from mega_sat.sat.observer import OracleCall
+    from mega_sat.sat.oracles import OracleInterrupted
+
+    class Recorder:
+        def __init__(self):
+            self.begun: list[str] = []
+            self.ended: list[OracleCall] = []
+            self.limit: Deadline | None = None
+
+        def begin(self, call: OracleCall) -> Deadline | None:
+            assert call.result is None and call.error is None
+            self.begun.append(call.kind)
+            return self.limit
+
+        def end(self, call: OracleCall) -> None:
+            self.ended.append(call)
+
+    rec = Recorder()
+    with SatOracles(_chain(3), observer=rec) as orc:
+        first = orc.opt(frozenset())
+        assert orc.opt(frozenset()) is first
+        joint = orc.joint(frozenset(), None, 3)
+        part = orc.joint_lits([], None, 3)
+        assert rec.begun == ["opt", "opt", "joint", "joint"]
+        o1, o2, j, p = rec.ended
+        assert o1.result is first and not o1.cached and o2.cached and o2.result is first
+        assert o1.selection == frozenset() and o1.seconds >= 0 and o1.error is None
+        assert j.result is joint and (j.robot_bound, j.human_bound) == (None, 3)
+        assert j.max_horizon_asked == joint.horizon == 3 and j.conflicts is not None
+        assert p.selection is None and p.lits == () and p.result is part
+        assert min(c.solve_s for c in rec.ended) >= 0 and j.grow_s >= 0
+        # a per-call deadline already passed: the call raises, and end() still sees it
+        rec.limit = Deadline(time.perf_counter())
+        act = _add_pigeonhole(orc)
+        with pytest.raises(OracleInterrupted):
+            orc.joint_lits([], None, 3)  # any SAT call past the deadline raises
+        assert isinstance(rec.ended[-1].error, OracleInterrupted)
+        assert rec.ended[-1].result is None
+        # the run's own deadline is untouched: without the per-call limit the oracles answer
+        rec.limit = None
+        assert orc.deadline.limited is False
+        orc.solving.joint_solver.add_clause([-act])
+        assert orc.joint(frozenset(), None, 3).robot_cost == 3
+
+
+def test_stats_as_dict_reports_the_used_counters_only():
+    """``OracleStats.as_dict`` gives the ``sat_*`` keys of the engine's JSON: the fixed
+    counters always, the others once their work happened, in the order it first happened."""
+    from mega_sat.sat.stats import OracleStats
+
+    st = OracleStats()
+    keys = list(st.as_dict())
+    assert keys[:3] == ["sat_opt_calls", "sat_joint_calls", "sat_solver_calls"]
+    assert "sat_step_queries" not in keys and keys[-1] == "sat_joint_horizon"
+    st.joint_by_search = 1
+    st.step_queries = 0
+    st.joint_by_search = 2
+    st.opt_calls = 3
+    got = st.as_dict()
+    assert list(got)[-2:] == ["sat_joint_by_search", "sat_step_queries"]
+    assert got["sat_step_queries"] == 0 and got["sat_joint_by_search"] == 2
+    assert got["sat_opt_calls"] == 3 and len(got) == len(keys) + 2

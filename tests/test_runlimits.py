@@ -262,8 +262,8 @@ def _sleep_past_deadline_after_first_point(monkeypatch):
 
     def slow_joint(self, *args, **kw):
         res = joint(self, *args, **kw)
-        if res.plan is not None and self.deadline is not None:
-            time.sleep(max(0.0, self.deadline - time.perf_counter()) + 0.01)
+        if res.plan is not None and self.deadline.limited:
+            time.sleep(self.deadline.remaining() + 0.01)
         return res
 
     monkeypatch.setattr(SatOracles, "joint", slow_joint)
@@ -396,7 +396,7 @@ orc = SatOracles(_chain(3), solver="cadical195")
 act = _add_pigeonhole(orc, 12, 11)
 print("solving", flush=True)
 try:
-    orc._solve(orc._joint_solver, [act])
+    orc.solving.solve(orc.solving.joint_solver, [act])
 except KeyboardInterrupt:
     print("KeyboardInterrupt")
 except Exception as e:

@@ -45,8 +45,9 @@ from mega_sat.bench.suites import discover
 DEFAULT_TARGET = 0.5
 DEFAULT_CALL_LIMIT = 60.0
 DEFAULT_TIME_LIMIT = 600.0
-# a call's ``status``: OPT's and JOINT's own answers, the call limit, or an exception
-CALL_STATUSES = ("optimal", "unsolvable", "unknown", "plan", "infeasible", "timeout", "error")
+# a call's ``status``: OPT's and JOINT's own answers (mega_sat.status), the call limit, or an
+# exception
+CALL_STATUSES = ("optimal", "unsolvable", "limit", "plan", "infeasible", "timeout", "error")
 # opt_vars, opt_clauses, opt_horizon, joint_vars, ...
 SIZE_KEYS = tuple(f"{e}_{x}" for e in ("opt", "joint") for x in ("vars", "clauses", "horizon"))
 
@@ -84,178 +85,102 @@ CALL_FIELDS = (
 
 
 def _sizes(orc) -> dict[str, int | None]:
-    """Encoding size now (``orc.stats`` is refreshed after every oracle call)."""
-    return {k: orc.stats.get(f"sat_{k}") for k in SIZE_KEYS}
+    """Encoding sizes now (the oracle stats are refreshed after every oracle call)."""
+    stats = orc.stats
+    return {k: getattr(stats, k) for k in SIZE_KEYS}
 
 
 @contextlib.contextmanager
 def count_encodings() -> Iterator[list[int]]:
     """Count :class:`FamilyEncoding` constructions inside the block (``counter[0]``), to check
     that the encoding is built once per task and never per call."""
-    from mega_sat.sat import encoding as sat_encoding
+    from mega_sat.sat.encoding import FamilyEncoding
 
-    cls = getattr(sat_encoding, "FamilyEncoding", None)
+    before = FamilyEncoding.built
     counter = [0]
-    if cls is None:  # renamed: nothing to count; reported as None by the caller
-        counter[0] = -1
-        yield counter
-        return
-    orig = cls.__init__
-
-    def counting_init(self, *a, **kw):
-        counter[0] += 1
-        orig(self, *a, **kw)
-
-    cls.__init__ = counting_init
     try:
         yield counter
     finally:
-        cls.__init__ = orig
-
-
-def sat_conflicts(orc) -> int | None:
-    """Conflicts spent so far by the oracle object's SAT solvers (``None`` if a solver does
-    not report them).  Unlike seconds, this does not depend on the machine or its load."""
-    total = 0
-    for name in ("_opt_solver", "_joint_solver"):
-        solver = getattr(orc, name, None)
-        if solver is None:
-            continue
-        got = (solver.accum_stats() or {}).get("conflicts")
-        if got is None:
-            return None
-        total += int(got)
-    return total
+        counter[0] = FamilyEncoding.built - before
 
 
 WORK_KEYS = ("solve_s", "grow_s", "search_s", "counting_s")
-
-
-def _work_seconds(orc) -> tuple[float, ...]:
-    """Seconds so far, in the order of ``WORK_KEYS``: inside SAT solver calls; growing the
-    encodings (new steps with their invariants, goal and cost clauses); OPT's lowered-cost
-    search; the operator-counting integer programs."""
-    grow = sum(getattr(getattr(orc, e, None), "grow_s", 0.0) for e in ("opt_enc", "joint_enc"))
-    st = orc.stats
-    return (
-        float(st.get("sat_solve_time_s", 0.0)),
-        grow,
-        float(st.get("sat_search_time_s", 0.0)),
-        float(st.get("sat_counting_time_s", 0.0)),
-    )
+"""Seconds of one call: inside SAT solver calls; growing the encodings (new steps with their
+invariants, goal and cost clauses); explicit searches; the operator-counting integer programs
+(the fields of :class:`mega_sat.sat.observer.OracleCall` of the same names)."""
 
 
 class CallRecorder:
-    """Wraps ``orc.opt`` and ``orc._joint`` of one oracle object: every call gets a deadline
-    (``call_limit`` seconds, never past ``deadline``) and is recorded by ``sink``."""
+    """An observer of one oracle object (``SatOracles(..., observer=recorder)``): every call
+    gets a deadline (``call_limit`` seconds, never past ``deadline``) and is recorded by
+    ``sink``."""
 
     def __init__(
         self,
-        orc,
         group: str,
         call_limit: float,
         deadline: float | None,
         sink: Callable[[dict[str, Any]], None],
     ):
-        self.orc = orc
         self.group = group
         self.call_limit = call_limit
         self.deadline = deadline
         self.sink = sink
         self.timed_out = False
         self.seq = 0
-        self._max_h: int | None = None
-        self._opt = orc.opt
-        self._joint = orc._joint
-        orc.opt = self.opt
-        orc._joint = self.joint
-        # the largest horizon each call asks the solver about (OPT results do not carry it)
-        for enc in (getattr(orc, "opt_enc", None), getattr(orc, "joint_enc", None)):
-            ga = getattr(enc, "goal_assumptions", None)
-            if ga is not None:
-                enc.goal_assumptions = self._track_horizon(ga)
+        self.orc = None  # the oracles observed, for their encoding sizes
 
-    def _track_horizon(self, fn):
-        def wrapped(h, *a, **kw):
-            self._max_h = h if self._max_h is None else max(self._max_h, h)
-            return fn(h, *a, **kw)
+    def begin(self, call):
+        from mega_sat.deadline import Deadline
 
-        return wrapped
+        limit = time.perf_counter() + self.call_limit
+        at = limit if self.deadline is None else min(limit, self.deadline)
+        return Deadline(at, self.call_limit)
 
-    def _call(self, kind: str, fn, info: dict[str, Any], in_cache: bool = False):
+    def end(self, call) -> None:
         from mega_sat.sat.oracles import OracleInterrupted
 
-        orc = self.orc
-        n_before = orc.stats.get(f"sat_{kind}_calls")
-        conflicts_before = sat_conflicts(orc)
-        work_before = _work_seconds(orc)
-        self._max_h = None
-        limit = time.perf_counter() + self.call_limit
-        orc.set_deadline(limit if self.deadline is None else min(limit, self.deadline))
-        t0 = time.perf_counter()
-        res = None
-        failure = None
-        try:
-            res = fn()
-        except OracleInterrupted:
-            self.timed_out = True
-            failure = "timeout"
-            raise
-        except Exception as e:
-            failure = f"error: {type(e).__name__}: {e}"
-            raise
-        finally:
-            dt = time.perf_counter() - t0
-            orc.set_deadline(None)
-            self.seq += 1
-            rec: dict[str, Any] = {"group": self.group, "seq": self.seq, "kind": kind, **info}
-            if res is None:
-                timeout = failure == "timeout"
-                if timeout:
-                    late = self.deadline is not None and time.perf_counter() >= self.deadline
-                    failure = "instance time limit" if late else f"call limit {self.call_limit}s"
-                rec.update(status="timeout" if timeout else "error", reason=failure)
+        self.seq += 1
+        kind = call.kind
+        rec: dict[str, Any] = {"group": self.group, "seq": self.seq, "kind": kind}
+        if kind == "opt":
+            rec["selection"] = sorted(call.selection)
+        else:
+            rec.update(robot_bound=call.robot_bound, human_bound=call.human_bound)
+            if call.selection is not None:
+                rec["selection"] = sorted(call.selection)
+            else:  # a partial assignment: keep the literals themselves
+                rec["lits"] = [[int(i), bool(v)] for i, v in call.lits]
+        res = call.result
+        if res is None:
+            timeout = isinstance(call.error, OracleInterrupted)
+            if timeout:
+                self.timed_out = True
+                late = self.deadline is not None and time.perf_counter() >= self.deadline
+                failure = "instance time limit" if late else f"call limit {self.call_limit}s"
             else:
-                rec.update(
-                    status=res.status,
-                    cost=res.cost if kind == "opt" else res.robot_cost,
-                    human_cost=None if kind == "opt" else res.human_cost,
-                    horizon=self._max_h if kind == "opt" else res.horizon,
-                    sat_calls=res.calls,
-                    exact=res.exact,
-                    reason=res.reason,
-                )
-            rec["max_horizon_asked"] = self._max_h
-            conflicts_after = sat_conflicts(orc)
-            rec["conflicts"] = (
-                None
-                if conflicts_before is None or conflicts_after is None
-                else conflicts_after - conflicts_before
+                failure = f"error: {type(call.error).__name__}: {call.error}"
+            rec.update(status="timeout" if timeout else "error", reason=failure)
+        else:
+            rec.update(
+                status=str(res.status),
+                cost=res.cost if kind == "opt" else res.robot_cost,
+                human_cost=None if kind == "opt" else res.human_cost,
+                horizon=call.max_horizon_asked if kind == "opt" else res.horizon,
+                sat_calls=res.calls,
+                exact=res.exact,
+                reason=res.reason,
             )
-            rec["seconds"] = round(dt, 6)
-            for key, a, b in zip(WORK_KEYS, work_before, _work_seconds(orc), strict=True):
-                rec[key] = round(b - a, 6)
-            # a cached OPT answer comes back without a new oracle computation
-            unchanged = n_before is not None and orc.stats.get(f"sat_{kind}_calls") == n_before
-            rec["cached"] = kind == "opt" and res is not None and (in_cache or unchanged)
-            rec.update(_sizes(orc))
-            self.sink(rec)
-        return res
-
-    def opt(self, selection):
-        sel = frozenset(selection)
-        in_cache = sel in getattr(self.orc, "_opt_cache", {})
-        return self._call("opt", lambda: self._opt(sel), {"selection": sorted(sel)}, in_cache)
-
-    def joint(self, lits, robot_bound=None, human_bound=None, **kw):
-        lits = list(lits)
-        sel = kw.get("sel")
-        info: dict[str, Any] = {"robot_bound": robot_bound, "human_bound": human_bound}
-        if sel is not None:
-            info["selection"] = sorted(sel)
-        else:  # a partial assignment: keep the literals themselves
-            info["lits"] = [[int(i), bool(v)] for i, v in lits]
-        return self._call("joint", lambda: self._joint(lits, robot_bound, human_bound, **kw), info)
+        rec["max_horizon_asked"] = call.max_horizon_asked
+        rec["conflicts"] = call.conflicts
+        rec["seconds"] = round(call.seconds, 6)
+        for key in WORK_KEYS:
+            rec[key] = round(getattr(call, key), 6)
+        # a cached OPT answer comes back without a new oracle computation
+        rec["cached"] = kind == "opt" and res is not None and call.cached
+        if self.orc is not None:
+            rec.update(_sizes(self.orc))
+        self.sink(rec)
 
 
 def direct_selections(n_updates: int, robot: frozenset[int]) -> list[frozenset[int]]:
@@ -305,17 +230,17 @@ def measure(
         )
 
         # 1. one oracle object for the whole task; its construction is the encoding build
+        loop = CallRecorder("loop", call_limit, deadline, sink)
         with count_encodings() as built:
             t0 = time.perf_counter()
-            orc = SatOracles(family)
+            orc = loop.orc = SatOracles(family, observer=loop)
             rec["build_s"] = round(time.perf_counter() - t0, 6)
-        rec["encodings_at_build"] = built[0] if built[0] >= 0 else None
+        rec["encodings_at_build"] = built[0]
         rec["encoding_initial"] = _sizes(orc)
         if info_path:
             _write_json(info_path, rec)
 
         # 2. every OPT / JOINT call of the engine, SAT oracles only
-        loop = CallRecorder(orc, "loop", call_limit, deadline, sink)
         t0 = time.perf_counter()
         with count_encodings() as during:
             try:
@@ -343,23 +268,22 @@ def measure(
         if loop.timed_out:
             rec["loop_stop"] = "a call was stopped by the time limit (see its reason)"
         rec["loop_s"] = round(time.perf_counter() - t0, 4)
-        rec["encodings_built_in_loop"] = during[0] if during[0] >= 0 else None
+        rec["encodings_built_in_loop"] = during[0]
         rec["encoding_final_loop"] = _sizes(orc)
         orc.close()
 
         # 3. direct SAT OPT calls on a fresh oracle object (no answers cached by the loop)
-        with count_encodings():
-            t0 = time.perf_counter()
-            orc2 = SatOracles(family)
-            rec["direct_build_s"] = round(time.perf_counter() - t0, 6)
-        direct = CallRecorder(orc2, "direct", call_limit, deadline, sink)
+        direct = CallRecorder("direct", call_limit, deadline, sink)
+        t0 = time.perf_counter()
+        orc2 = direct.orc = SatOracles(family, observer=direct)
+        rec["direct_build_s"] = round(time.perf_counter() - t0, 6)
         skipped = []
         for sel in direct_selections(family.n_updates, family.robot_selection):
             if time.perf_counter() >= deadline:
                 skipped.append(sorted(sel))
                 continue
             with contextlib.suppress(OracleInterrupted):  # recorded as a timeout
-                direct.opt(sel)  # = orc2.opt, wrapped
+                orc2.opt(sel)  # recorded by the observer
         rec["direct_skipped"] = skipped
         rec["encoding_final_direct"] = _sizes(orc2)
         orc2.close()

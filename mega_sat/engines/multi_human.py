@@ -159,9 +159,9 @@ def multi_frontier(
     for t, fam, kind in zip(task.tasks, families, planners, strict=True):
         orc = None
         if kind == "sat":
-            orc = SatOracles(fam, solver=solver)  # options: after the sat/ rewrite
+            orc = SatOracles(fam, solver=solver, options=options)
             if deadline.limited:
-                orc.set_deadline(deadline.at)
+                orc.deadline = deadline
         tiers.append(
             TieredOpt(
                 fam,
@@ -271,7 +271,7 @@ def multi_frontier(
         else:
             humans = [families[i].specialize(proj[i]) for i in range(n_humans)]
             stats["joint_searches"] += 1
-            r = searcher.search(humans, bound, [o.cost for o in opts], deadline=deadline.at)
+            r = searcher.search(humans, bound, [o.cost for o in opts], deadline=deadline)
             stats["joint_expanded"] += r.expanded
             if r.status == "limit":
                 stopped(cost_e)

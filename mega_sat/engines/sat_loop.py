@@ -112,12 +112,10 @@ def sat_frontier(
         deadline = Deadline.after(timeout)
     progress = progress if progress is not None else Progress()
     progress.start("sat", tuple(u.name for u in task.delta), update_costs)
-    orc = oracles
-    if orc is None:
-        # after the sat rewrite: SatOracles(family, solver=, options=options, deadline=deadline)
-        orc = SatOracles(family, solver=solver)
-        if deadline.limited:
-            orc.set_deadline(deadline.at)  # interrupts a SAT call still running at the deadline
+    orc = oracles if oracles is not None else SatOracles(family, solver=solver, options=options)
+    earlier_deadline = orc.deadline
+    if deadline.limited:
+        orc.deadline = deadline  # interrupts a SAT call still running at the deadline
     # every planner call runs within the deadline; one it cuts short raises TimeLimitReached
     opt_planner = NodePlanner(
         task, family, planner, oracles=orc, deadline=deadline, options=options
@@ -140,8 +138,9 @@ def sat_frontier(
 
     try:
         robot = opt_of(family.robot_selection)
-    except OracleInterrupted:
-        if not deadline.expired():
+    except (OracleInterrupted, TimeLimitReached) as e:
+        orc.deadline = earlier_deadline
+        if isinstance(e, TimeLimitReached) or not deadline.expired():
             raise
         raise TimeLimitReached(deadline.seconds) from None  # nothing proven to report
     require_robot_plan(task, robot)
@@ -277,7 +276,7 @@ def sat_frontier(
                 )
                 t_sat = time.perf_counter() - t_sat
                 ts = tight_support(family, sel, opt.plan)
-                if res is None or res.status not in (Status.PLAN, Status.INFEASIBLE):
+                if res is None or not res.status.decided:
                     stats["joint_searches"] += 1
                     t_search = time.perf_counter()
                     res = search_joint(
@@ -287,7 +286,7 @@ def sat_frontier(
                         bound,
                         opt.cost,
                         keep=frozenset(i for i, _ in ts),
-                        deadline=deadline.at,  # after the joint rewrite: deadline=deadline
+                        deadline=deadline,
                     )
                     if res is None:
                         raise OracleInterrupted
@@ -322,6 +321,8 @@ def sat_frontier(
             _learn(hs, exclusion_clause(sel, on), stats)
     finally:
         hs.close()
+        if deadline.limited:
+            orc.deadline = earlier_deadline
     pts = pareto_filter(points)
     return Frontier(
         engine="sat",
@@ -343,7 +344,7 @@ def sat_frontier(
             "joint": joint,
             "joint_conflict_budget_final": budget.conflicts,
             "hitting_set_calls": hs.calls,
-            **getattr(orc, "stats", {}),
+            **orc.stats.as_dict(),
         },
         update_costs=update_costs,
         next_cost_lower_bound=lower_bound,

@@ -84,10 +84,9 @@ class NodePlanner:
         if self._oracles is None:
             from mega_sat.sat.oracles import SatOracles
 
-            # after the sat rewrite: SatOracles(family, solver=..., options=, deadline=)
-            self._oracles = SatOracles(self.family, solver=self._solver)
+            self._oracles = SatOracles(self.family, solver=self._solver, options=self.options)
             if self.deadline.limited:
-                self._oracles.set_deadline(self.deadline.at)
+                self._oracles.deadline = self.deadline
         return self._oracles
 
     def optimal(self, selection: frozenset[int]) -> PlanResult:
@@ -127,7 +126,7 @@ class NodePlanner:
             return answer(r.status, r.plan, r.cost, reason=r.reason)
         if self.kind == "sat":
             r = self.oracles.opt(sel)
-            return answer(_opt_status(r.status), r.plan, r.cost, r.exact, r.reason)
+            return answer(r.status, r.plan, r.cost, r.exact, r.reason)
         from mega_sat.pddl.writer import domain_to_pddl, problem_to_pddl
         from mega_sat.planners.fast_downward import fd_plan
 
@@ -170,13 +169,6 @@ def require_robot_plan(task: TwoModelTask, r: PlanResult) -> None:
         raise UnsolvableError("the robot problem has no plan", path=src)
     if r.status != Status.OPTIMAL:
         raise UnsolvableError(f"no plan found for the robot problem ({r.reason})", path=src)
-
-
-def _opt_status(status: str) -> Status:
-    """The SAT OPT oracle's status as a :class:`Status`; its ``unknown`` (the horizon cap or a
-    conflict budget ran out: a deadline raises instead) is ``LIMIT``.  Goes away once the
-    oracles answer with a :class:`Status` themselves."""
-    return Status.LIMIT if status == "unknown" else Status(status)
 
 
 def ground_strips_pddl(task: GroundTask) -> tuple[str, str, dict[str, PlanStep]]:

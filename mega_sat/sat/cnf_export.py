@@ -25,6 +25,7 @@ from pathlib import Path
 from pysat.formula import CNF, WCNF
 
 from mega_sat.ground.family import GroundFamily
+from mega_sat.options import DEFAULT, Options
 from mega_sat.sat.encoding import HUMAN, ROBOT, FamilyEncoding
 
 
@@ -87,14 +88,14 @@ def export(
     robot_bound: int | None = None,
     human_bound: int | None = None,
     update_names: Sequence[str] | None = None,
-    horizon_cap: int = 200,
+    options: Options = DEFAULT,
 ) -> dict[str, Path]:
     """Write ``<kind>.cnf``, ``<kind>.wcnf`` and ``<kind>.vars.json`` into ``out_dir``.
 
     ``kind="opt"``: plans of ``human + selection`` with cost <= ``human_bound`` (default: the
     optimum, computed with the OPT oracle).  ``kind="joint"``: JOINT with both bounds
     (``human_bound`` defaults to the optimum of ``human + selection``).  The horizon is at
-    most ``horizon_cap`` steps, as in the oracles.  Returns the paths.
+    most ``options.horizon_cap`` steps, as in the oracles.  Returns the paths.
     """
     sel = frozenset(selection)
     if kind not in ("opt", "joint"):
@@ -102,7 +103,7 @@ def export(
     if human_bound is None:
         from mega_sat.sat.oracles import SatOracles
 
-        with SatOracles(family) as orc:
+        with SatOracles(family, options=options) as orc:
             r = orc.opt(sel)
         if r.status != "optimal":
             raise ValueError(f"human + E has no plan ({r.status}: {r.reason}); give a bound")
@@ -110,7 +111,7 @@ def export(
     if human_bound < 0 or (robot_bound is not None and robot_bound < 0):
         raise ValueError("bounds must be >= 0")
     bound = human_bound if (kind == "opt" or robot_bound is None) else min(human_bound, robot_bound)
-    h, exact = _horizon(family, bound, horizon_cap)
+    h, exact = _horizon(family, bound, options.horizon_cap)
     clauses: list[list[int]] = []
     copies = (HUMAN,) if kind == "opt" else (HUMAN, ROBOT)
     enc = FamilyEncoding(family, clauses.append, copies=copies)

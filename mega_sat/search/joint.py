@@ -20,25 +20,28 @@ from __future__ import annotations
 
 import heapq
 import time
-from dataclasses import dataclass
 
+from mega_sat.analysis.abstraction import abstract_task
 from mega_sat.analysis.relaxation import RelaxedTask, bits
-from mega_sat.ground.family import GroundTask
-from mega_sat.model.lifted import PlanStep
+from mega_sat.deadline import NO_DEADLINE, Deadline
+from mega_sat.ground.family import GroundTask, holds
+from mega_sat.options import DEFAULT, Options
+from mega_sat.search.answers import JointResult
+from mega_sat.status import Status
 
 _INF = float("inf")
+_DEADLINE_EVERY = 64
+"""Expansions between two looks at the clock (a clock read per expansion would dominate)."""
 
 
-@dataclass(frozen=True)
-class JointSearchResult:
-    """``status``: ``plan`` (a cheapest joint plan within the bounds), ``none`` (proven: no
-    joint plan within the bounds) or ``limit`` (node or time limit reached: nothing proven)."""
-
-    status: str
-    plan: tuple[PlanStep, ...] | None
-    robot_cost: int | None
-    human_cost: int | None
-    expanded: int
+def _searched(
+    status: Status, plan=None, robot_cost=None, human_cost=None, expanded: int = 0
+) -> JointResult:
+    """A :class:`JointResult` of :meth:`JointSearcher.search` (no core, no selection)."""
+    return JointResult(
+        status, plan, robot_cost, human_cost, None, None, status.decided,
+        "proven by explicit search", 0, 1, 0.0, expanded,
+    )  # fmt: skip
 
 
 def _masks(task: GroundTask) -> dict[int, tuple[int, int, int, int, int]]:
@@ -80,12 +83,14 @@ class JointSearcher:
         human_bound: int,
         *,
         node_limit: int | None = None,
-        deadline: float | None = None,
+        deadline: Deadline = NO_DEADLINE,
         heuristic_task: GroundTask | None = None,
         track: CoreTracker | None = None,
-    ) -> JointSearchResult:
+    ) -> JointResult:
         """Cheapest-robot-cost joint plan with robot cost <= ``robot_bound`` (None: no bound)
-        and human cost <= ``human_bound``; see the module docstring.
+        and human cost <= ``human_bound``; see the module docstring.  ``PLAN``, ``INFEASIBLE``
+        (proven: no joint plan within the bounds; no core), ``LIMIT`` (``node_limit`` reached)
+        or ``TIMEOUT`` (``deadline`` passed); ``expanded`` says how many nodes it took.
 
         ``heuristic_task``: compute the human heuristic on this task instead (an abstraction
         of ``human``, so the pruning stays valid for every model it covers).  ``track``
@@ -125,7 +130,7 @@ class JointSearcher:
         hr0, hh0 = self.robot_h(start[0]), human_h(start[1])
         expanded = 0
         if hr0 > k_bound or hh0 > human_bound:
-            return JointSearchResult("none", None, None, None, 0)
+            return _searched(Status.INFEASIBLE)
         labels: dict[tuple[int, int], list[tuple[int, int]]] = {start: [(0, 0)]}
         parent: dict[tuple[int, int, int, int], tuple[tuple[int, int, int, int], int] | None] = {
             (*start, 0, 0): None
@@ -143,11 +148,11 @@ class JointSearcher:
                 while parent[node] is not None:
                     node, j = parent[node]  # type: ignore[misc]
                     steps.append(step_of[j])
-                return JointSearchResult("plan", tuple(reversed(steps)), gr, gh, expanded)
+                return _searched(Status.PLAN, tuple(reversed(steps)), gr, gh, expanded)
             if node_limit is not None and expanded >= node_limit:
-                return JointSearchResult("limit", None, None, None, expanded)
-            if deadline is not None and expanded % 64 == 0 and time.perf_counter() > deadline:
-                return JointSearchResult("limit", None, None, None, expanded)
+                return _searched(Status.LIMIT, expanded=expanded)
+            if expanded % _DEADLINE_EVERY == 0 and deadline.expired():
+                return _searched(Status.TIMEOUT, expanded=expanded)
             expanded += 1
             if track is not None:
                 track.expanded(sr)
@@ -183,7 +188,7 @@ class JointSearcher:
                 parent[(tr, th, gr2, gh2)] = ((sr, sh, gr, gh), j)
                 counter += 1
                 heapq.heappush(heap, (gr2 + hr, hr, counter, gr2, gh2, key2))
-        return JointSearchResult("none", None, None, None, expanded)
+        return _searched(Status.INFEASIBLE, expanded=expanded)
 
 
 class CoreTracker:
@@ -205,8 +210,6 @@ class CoreTracker:
     """
 
     def __init__(self, family, selection: frozenset[int], robot_masks) -> None:
-        from mega_sat.ground.family import holds
-
         n = len(family.atoms)
         sel = frozenset(selection)
         self.used: set[int] = {g[0] for _, g in family.init if g}
@@ -258,7 +261,7 @@ def infeasibility_core(
     human_bound: int,
     *,
     node_limit: int,
-    deadline: float | None = None,
+    deadline: Deadline = NO_DEADLINE,
 ) -> frozenset[int]:
     """A set ``S ⊇ keep`` of updates such that no selection agreeing with ``selection`` on
     ``S`` has a joint plan within the bounds, given that ``human + selection`` has none.
@@ -268,8 +271,6 @@ def infeasibility_core(
     has no joint plan.  A search that hits ``node_limit`` proves nothing, so the update stays;
     the result is always sound, just possibly larger than necessary.
     """
-    from mega_sat.analysis.abstraction import abstract_task
-
     everything = frozenset(range(family.n_updates))
 
     def infeasible(fixed: frozenset[int]) -> bool:
@@ -277,7 +278,7 @@ def infeasibility_core(
         r = searcher.search(
             human, robot_bound, human_bound, node_limit=node_limit, deadline=deadline
         )
-        return r.status == "none"
+        return r.status == Status.INFEASIBLE
 
     candidates = sorted(everything - keep)
     if not candidates:
@@ -300,34 +301,32 @@ def search_joint(
     human_bound: int,
     *,
     keep: frozenset[int] = frozenset(),
-    deadline: float | None = None,
-    core_factor: float = 2.0,
-):
-    """JOINT(E, K, c) by explicit search, as a :class:`mega_sat.sat.oracles.JointResult`.
+    deadline: Deadline = NO_DEADLINE,
+    options: Options = DEFAULT,
+) -> JointResult | None:
+    """JOINT(E, K, c) by explicit search, as the same :class:`JointResult` as the SAT oracle's.
 
-    A plan is robot-cost minimal by A*.  "None" comes with a core: the updates the search
+    A plan is robot-cost minimal by A*.  "No plan" comes with a core: the updates the search
     depended on (:class:`CoreTracker`) plus ``keep`` (updates the caller fixes anyway, e.g.
     the tight support of ``pi*``), confirmed by a second search whose heuristic is computed on
-    the abstraction fixing just those; if that one runs past ``core_factor`` times the nodes of
-    the first, by :func:`infeasibility_core`.  Returns ``None`` when ``deadline`` passed before
-    an answer.
+    the abstraction fixing just those; if that one runs past ``joint_core_factor`` times the
+    nodes of the first (at least ``joint_core_min_nodes``), by :func:`infeasibility_core`.
+    Returns ``None`` when ``deadline`` passed before an answer.
     """
-    from mega_sat.analysis.abstraction import abstract_task
-    from mega_sat.sat.oracles import JointResult
-
     t0 = time.perf_counter()
     sel = frozenset(selection)
     everything = frozenset(range(family.n_updates))
     human = abstract_task(family, sel, everything)
     track = CoreTracker(family, sel, searcher._r_masks)
     r = searcher.search(human, robot_bound, human_bound, deadline=deadline, track=track)
-    if r.status == "limit":
+    if not r.status.decided:
         return None
-    if r.status == "plan":
+    if r.status == Status.PLAN:
         return JointResult(
-            "plan", r.plan, r.robot_cost, r.human_cost, None, sel, True,
-            "proven by explicit search", 0, 1, time.perf_counter() - t0,
+            Status.PLAN, r.plan, r.robot_cost, r.human_cost, None, sel, True,
+            "proven by explicit search", 0, 1, time.perf_counter() - t0, r.expanded,
         )  # fmt: skip
+    node_limit = max(options.joint_core_min_nodes, int(options.joint_core_factor * r.expanded))
     # the search above pruned with the heuristic of human + E itself, valid for E alone; redo
     # it with the heuristic of the abstraction fixing only what it depended on, which stays
     # valid for every E' agreeing on the core
@@ -338,12 +337,12 @@ def search_joint(
             human,
             robot_bound,
             human_bound,
-            node_limit=max(500, int(core_factor * r.expanded)),
+            node_limit=node_limit,
             deadline=deadline,
             heuristic_task=abstract_task(family, sel, fixed),
             track=track2,
         )
-        if r2.status == "none":
+        if r2.status == Status.INFEASIBLE:
             fixed |= track2.used
         else:  # cut short: fall back to deletion, each search on an abstraction
             fixed = infeasibility_core(
@@ -353,10 +352,10 @@ def search_joint(
                 frozenset(keep),
                 robot_bound,
                 human_bound,
-                node_limit=max(500, int(core_factor * r.expanded)),
+                node_limit=node_limit,
                 deadline=deadline,
             )
     return JointResult(
-        "infeasible", None, None, None, frozenset((i, i in sel) for i in fixed), sel, True,
-        "proven by explicit search", 0, 1, time.perf_counter() - t0,
+        Status.INFEASIBLE, None, None, None, frozenset((i, i in sel) for i in fixed), sel, True,
+        "proven by explicit search", 0, 1, time.perf_counter() - t0, r.expanded,
     )  # fmt: skip

@@ -21,11 +21,11 @@ zero-cost actions too (the label sets are finite, since labels within the bounds
 from __future__ import annotations
 
 import heapq
-import time
 from collections.abc import Sequence
 from dataclasses import dataclass
 
 from mega_sat.analysis.relaxation import RelaxedTask, bits
+from mega_sat.deadline import Deadline
 from mega_sat.ground.family import GroundTask, PlanStep
 
 _INF = float("inf")
@@ -80,10 +80,10 @@ class MultiJointSearcher:
         robot_bound: int | None,
         human_bounds: Sequence[int],
         *,
-        deadline: float | None = None,
+        deadline: Deadline | None = None,
     ) -> MultiJointResult:
         """The cheapest-robot-cost plan within the bounds (see the module docstring);
-        ``deadline`` is a ``time.perf_counter()`` value."""
+        ``deadline``: the run's time limit (checked every 64 expansions)."""
         n = len(humans)
         bounds = tuple(human_bounds)
         h_goals = [sum(1 << p for p in h.goal) for h in humans]
@@ -129,7 +129,7 @@ class MultiJointSearcher:
                     node, step = parent[node]  # type: ignore[misc]
                     steps.append(step)
                 return MultiJointResult("plan", tuple(reversed(steps)), g[0], g[1:], expanded)
-            if deadline is not None and expanded % 64 == 0 and time.perf_counter() > deadline:
+            if deadline is not None and expanded % 64 == 0 and deadline.expired():
                 return MultiJointResult("limit", None, None, None, expanded)
             expanded += 1
             for step, (rpre, rneg, rkeep, radd, rc), parts in acts:

@@ -1,0 +1,328 @@
+"""The OPT oracle: the optimal cost and plan of one model ``human + E`` by SAT.
+
+(1) relaxed reachability proves unsolvability and gives step/cost lower bounds;
+(2) a first plan: an earlier optimal plan, the lowered-cost search's plan, else SAT with a
+horizon doubling from the step lower bound (cost unbounded); the operator-counting bound may
+prove it optimal at once;
+(3) linear descent: with best simulated cost ``C`` ask for cost ``<= C - 1`` at the horizon
+that makes the answer exact, until UNSAT (or a lower bound is met); step queries first raise
+the step lower bound to the fewest steps of a known plan, which alone proves ``C`` optimal
+when the horizon is below it (``encodings/sequential.md``).
+
+Past the horizon cap an explicit search is the proof.  Every reported cost comes from
+simulating the decoded plan, never from the solver's counters.
+"""
+
+from __future__ import annotations
+
+import time
+from typing import TYPE_CHECKING
+
+from mega_sat.analysis.extra_cost import extra_cost_bound, relaxed_bounds
+from mega_sat.ground.family import GroundTask
+from mega_sat.ground.simulate import ground_plan_cost
+from mega_sat.model.lifted import PlanStep
+from mega_sat.sat.encoding import HUMAN
+from mega_sat.sat.solving import OracleInterrupted
+from mega_sat.sat.stats import add_seconds, bump
+from mega_sat.search.answers import OptResult
+from mega_sat.search.astar import astar
+from mega_sat.search.lowered_cost import extra_cost_search
+from mega_sat.search.plan_reduction import reduce_plan
+from mega_sat.status import Status
+
+if TYPE_CHECKING:
+    from mega_sat.sat.oracles import SatOracles
+
+_INF = float("inf")
+
+
+def cheaper(task: GroundTask, found, plan, best):
+    """``(plan, best)``, or ``found`` after action elimination if it is cheaper."""
+    if found is None:
+        return plan, best
+    found, cost = reduce_plan(task, found)
+    return (found, cost) if best is None or cost < best else (plan, best)
+
+
+class OptOracle:
+    """OPT on the OPT solver of ``orc`` (the family encoding with the human copy only); answers
+    are cached per selection, and their plans are upper bounds for later selections."""
+
+    def __init__(self, orc: SatOracles):
+        self.orc = orc
+        self.options = orc.options
+        self.stats = orc.stats
+        self._cache: dict[frozenset[int], OptResult] = {}
+        self._plans: list[tuple[PlanStep, ...]] = []
+        # per selection: (cheapest action cost, cost every plan spends above N times it)
+        self._extra: dict[frozenset[int], tuple[int, int]] = {}
+        self._extra_searched: set[frozenset[int]] = set()
+        self.searches_hit = 0
+        self.searches_missed = 0
+        self.search_steps_saved = 0
+
+    def cached(self, sel: frozenset[int]) -> OptResult | None:
+        """The cached answer for ``sel``, if OPT was asked before."""
+        return self._cache.get(sel)
+
+    def opt(self, sel: frozenset[int]) -> OptResult:
+        """Optimal cost and plan of ``human + sel`` (see the module docstring)."""
+        cached = self._cache.get(sel)
+        if cached is not None:
+            return cached
+        t0 = time.perf_counter()
+        res = self._opt(sel, t0)
+        self._cache[sel] = res
+        if res.status == Status.OPTIMAL and res.plan and res.plan not in self._plans:
+            self._plans.append(res.plan)
+        return res
+
+    # ------------------------------------------------------------- horizons
+    def horizon(self, sel: frozenset[int], bound: int, at_least: int = 0):
+        """:meth:`SatOracles.horizon` for OPT of one selection: ``floor((bound - extra) / c)``
+        with the selection's own cheapest action cost ``c`` and :func:`extra_cost_bound` (OPT
+        gives no cores, so the horizon may depend on the selection)."""
+        orc = self.orc
+        got = self._extra.get(sel)
+        if got is None:
+            task = orc.task(sel)
+            c = min((a.cost for a in task.actions), default=0)
+            got = self._extra[sel] = (c, extra_cost_bound(task, c))
+        c, extra = got
+        if c <= 0 or orc.c_min <= 0:
+            return orc.horizon(bound, at_least)
+        need = max((bound - extra) // c, 0)
+        return orc.capped(need, bound)
+
+    def tighten_extra(self, sel: frozenset[int]) -> tuple[PlanStep, ...] | None:
+        """Replace the LM-cut estimate of :meth:`horizon` by the exact optimum under the
+        lowered costs when an explicit search finds it within ``opt_extra_node_limit``
+        expansions (:func:`extra_cost_search`), and return the plan it found.  A larger extra
+        cost shortens the horizon of the proof.  Once per selection."""
+        self.horizon(sel, 0)  # makes sure the LM-cut estimate is there
+        self._extra_searched.add(sel)
+        c, extra = self._extra[sel]
+        if c <= 0:
+            return None
+        t0 = time.perf_counter()
+        x, plan = extra_cost_search(self.orc.task(sel), c, self.options.opt_extra_node_limit)
+        stats = self.stats
+        stats.search_time_s = add_seconds(stats.search_time_s, time.perf_counter() - t0)
+        self._extra[sel] = (c, max(extra, x))
+        self.searches_hit += plan is not None
+        self.searches_missed += plan is None
+        self.search_steps_saved += max(x - extra, 0) // c
+        stats.search_hits = self.searches_hit
+        stats.search_misses = self.searches_missed
+        stats.search_steps_saved = self.search_steps_saved
+        return plan
+
+    def search_first(self, task: GroundTask, have_plan: bool) -> bool:
+        """Whether OPT runs the lowered-cost search (:meth:`tighten_extra`): only with more
+        than one action cost (else the lowered costs are all zero), not once most searches on
+        this task have run out of expansions, and, when OPT already has a plan to descend
+        from, only while the searches shorten the horizon by ``search_first_steps`` steps each
+        on average.
+
+        Without a plan, the search's plan is the cheap first upper bound.  With one, a search
+        only pays if the SAT proof gets shorter: a search that removes a single step saves
+        little, since the step queries of the descent already make the cost query after a step
+        bound cheap."""
+        opts = self.options
+        costs = {a.cost for a in task.actions}
+        if len(costs) < 2 or min(costs) <= 0:
+            return False
+        if (
+            self.searches_missed >= opts.search_first_misses
+            and self.searches_missed > self.searches_hit
+        ):
+            return False
+        return (
+            not have_plan
+            or self.searches_hit < opts.search_first_hits
+            or self.search_steps_saved >= opts.search_first_steps * self.searches_hit
+        )
+
+    # ------------------------------------------------------------------ OPT
+    def _opt(self, sel: frozenset[int], t0: float) -> OptResult:
+        orc = self.orc
+        task = orc.task(sel)
+        enc, solving = orc.opt_enc, orc.solving
+        solver = solving.opt_solver
+        calls = 0
+
+        def done(status, cost, plan, exact, reason) -> OptResult:
+            return OptResult(status, cost, plan, exact, reason, calls, orc.finish("opt", t0))
+
+        bounds = relaxed_bounds(task)
+        if bounds is None:
+            return done(Status.UNSOLVABLE, None, None, True, "goal not relaxed-reachable")
+        lb_steps, lb_cost = bounds
+        if lb_steps == 0:
+            return done(Status.OPTIMAL, 0, (), True, "goal holds initially")
+        # an earlier core "no plan of cost <= K" that this selection agrees with
+        lits = {(i, i in sel) for i in range(orc.family.n_updates)}
+        core_lb = max((k + 1 for k, core in orc.cost_cores if core <= lits), default=0)
+        why_lb = "meets the relaxed lower bound"
+        if core_lb > lb_cost:
+            lb_cost, why_lb = core_lb, "meets the lower bound of an earlier core"
+        sel_lits = enc.selection_assumptions(sel)
+
+        # (2) a first plan and lower bounds, cheapest first: the cheapest earlier optimal plan
+        # valid here; the operator-counting bound; the lowered-cost search (exact extra cost
+        # for the horizon, and its plan); else SAT with a doubling horizon and no cost bound.
+        # Every plan is shortened by action elimination.
+        plan, best = self._known_plan(task), None
+        if plan is not None:
+            plan, best = reduce_plan(task, plan)
+        if best is None or best > lb_cost:
+            got = orc.counting.bound(lits, above=lb_cost)
+            if got is not None and got > lb_cost:
+                if got == _INF:
+                    assert best is None, "operator counting found no plan, but there is one: bug"
+                    return done(Status.UNSOLVABLE, None, None, True, "operator counting: no plan")
+                assert best is None or got <= best, "operator-counting bound above a plan's cost"
+                lb_cost, why_lb = int(got), "meets the operator-counting lower bound"
+        if (best is None or best > lb_cost) and self.search_first(task, best is not None):
+            plan, best = cheaper(task, self.tighten_extra(sel), plan, best)
+        cap = self.options.horizon_cap
+        h = min(max(lb_steps, 1), cap)
+        while plan is None:
+            calls += 1
+            if solving.solve(solver, sel_lits + orc.goal_assumptions(enc, h)):
+                plan = enc.decode_plan(solver.get_model(), h)
+                break
+            if h >= cap:
+                break
+            h = min(2 * h, cap)
+        if plan is None:
+            return self._fallback(task, calls, t0)
+        if best is None:
+            plan, best = reduce_plan(task, plan)
+
+        # (3) descend: cost <= best - 1 until UNSAT
+        # min_len: no plan of this model has fewer steps (relaxed, then raised by step queries)
+        min_len, len_by_sat = lb_steps, False
+        shortest = len(plan)  # the fewest steps of a plan known to run in this model
+        while True:
+            if best <= lb_cost:
+                return done(Status.OPTIMAL, best, plan, True, why_lb)
+            h, exact, reason = self.horizon(sel, best - 1, at_least=len(plan))
+            if not exact and orc.c_min > 0:
+                # the horizon cap (large costs over a small cheapest one): first make the
+                # extra cost exact, which may shorten the horizon below the cap; else an
+                # explicit search is the proof, and SAT at the cap only the best effort
+                if sel not in self._extra_searched:
+                    plan, best = cheaper(task, self.tighten_extra(sel), plan, best)
+                    continue
+                got = self._by_search(task, reason)
+                if got is not None:
+                    return done(Status.OPTIMAL, got[1], got[0], True, got[2])
+            if exact and h < min_len:
+                why = (
+                    f"proven by SAT: no plan has fewer than {min_len} steps, and cost "
+                    f"<= {best - 1} needs at most {h}"
+                    if len_by_sat
+                    else "no cheaper plan fits the relaxed step lower bound"
+                )
+                return done(Status.OPTIMAL, best, plan, True, why)
+            k = min(shortest - 1, h)
+            if self.options.step_first and exact and min_len <= k:
+                # (3a) the step query: a plan of at most k steps, at any cost
+                calls += 1
+                self.stats.step_queries = bump(self.stats.step_queries)
+                if not solving.solve(solver, sel_lits + orc.goal_assumptions(enc, k)):
+                    self.stats.step_bounds = bump(self.stats.step_bounds)
+                    min_len, len_by_sat = k + 1, True
+                    continue
+                found = enc.decode_plan(solver.get_model(), k)
+                assert ground_plan_cost(task, found) is not None, "decoded plan invalid"
+                plan, best = cheaper(task, found, plan, best)
+                shortest = min(shortest, len(found), len(plan))
+                continue
+            goal_lits = orc.goal_assumptions(enc, h)
+            cost_lits = enc.cost_assumptions(HUMAN, best - 1, h)
+            assert cost_lits is not None
+            # no plan has fewer than min_len steps: say so (no-op steps only come last)
+            at_least = [enc.act[min_len - 1]] if 0 < min_len <= h and enc.symmetry_breaking else []
+            calls += 1
+            probe = sel not in self._extra_searched and self.search_first(task, True)
+            budget = self.options.opt_probe_budget if probe else None
+            ok = solving.solve(solver, sel_lits + goal_lits + at_least + cost_lits, budget)
+            if ok is None:
+                # a hard query: an exact lower bound on the cost above N * c may shorten it
+                plan, best = cheaper(task, self.tighten_extra(sel), plan, best)
+                continue
+            if not ok:
+                return done(Status.OPTIMAL, best, plan, exact, reason or "proven by SAT")
+            plan = enc.decode_plan(solver.get_model(), h)
+            cost = ground_plan_cost(task, plan)
+            assert cost is not None and cost < best, "decoded plan invalid or not cheaper"
+            plan, best = reduce_plan(task, plan)
+            shortest = min(shortest, len(plan))
+
+    def _known_plan(self, task: GroundTask) -> tuple[PlanStep, ...] | None:
+        """The cheapest plan of an earlier OPT answer that is valid in ``task`` (an upper
+        bound to descend from: neighbouring candidate models often share optimal plans)."""
+        best = None
+        for plan in self._plans:
+            c = ground_plan_cost(task, plan)
+            if c is not None and (best is None or c < best[0]):
+                best = (c, plan)
+        return None if best is None else best[1]
+
+    # ------------------------------------------------------ past the horizon cap
+    def _blind_search(self, task: GroundTask, *, timed: bool):
+        """Blind A* within ``fallback_node_limit`` expansions and the time left; a search the
+        deadline cuts short raises :class:`OracleInterrupted` (it proves nothing, so nothing
+        is cached).  ``timed``: its seconds count as ``search_time_s``."""
+        solving = self.orc.solving
+        left = solving.time_left()
+        if left is not None and left <= 0:
+            raise OracleInterrupted("deadline reached")
+        t0 = time.perf_counter()
+        r = astar(
+            task, heuristic="blind", node_limit=self.options.fallback_node_limit, time_limit=left
+        )
+        if timed:
+            stats = self.stats
+            stats.search_time_s = add_seconds(stats.search_time_s, time.perf_counter() - t0)
+        if r.status == "timeout" and left is not None and solving.time_left() <= 0:
+            raise OracleInterrupted("deadline reached")
+        return r
+
+    def _by_search(
+        self, task: GroundTask, reason: str
+    ) -> tuple[tuple[PlanStep, ...], int, str] | None:
+        """``(plan, cost, reason)`` of an optimal plan by explicit-state search, for OPT when
+        the horizon that would make a SAT answer a proof is above the cap; ``None`` if the
+        search gave up."""
+        r = self._blind_search(task, timed=True)
+        if r.status != "optimal" or ground_plan_cost(task, r.plan) != r.cost:
+            return None
+        self.stats.opt_by_search = bump(self.stats.opt_by_search)
+        return tuple(r.plan), int(r.cost), reason + "; solved by explicit-state search"
+
+    def _fallback(self, task: GroundTask, calls: int, t0: float) -> OptResult:
+        """No plan within the horizon cap: only an exhaustive explicit search can decide."""
+        orc = self.orc
+        reason = f"no plan within the horizon cap {self.options.horizon_cap}"
+        r = self._blind_search(task, timed=False)
+        if r.status == "unsolvable":
+            return OptResult(
+                Status.UNSOLVABLE, None, None, True,
+                reason + "; explicit search exhausted the state space", calls,
+                orc.finish("opt", t0),
+            )  # fmt: skip
+        if r.status == "optimal":
+            cost = ground_plan_cost(task, r.plan)
+            if cost == r.cost:
+                return OptResult(
+                    Status.OPTIMAL, cost, tuple(r.plan), True,
+                    reason + "; solved by explicit-state search", calls, orc.finish("opt", t0),
+                )  # fmt: skip
+        return OptResult(
+            Status.LIMIT, None, None, False, reason + f"; explicit search gave {r.status}",
+            calls, orc.finish("opt", t0),
+        )  # fmt: skip
