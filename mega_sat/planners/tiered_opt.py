@@ -37,15 +37,14 @@ _INF = float("inf")
 
 
 class TieredOpt:
-    """``optimal(selection)`` through the tiers above, then ``planner`` (whose deadline and
-    options the tiers share)."""
+    """``optimal(selection)`` through the tiers above, then ``planner`` (whose options the
+    tiers share; the planner call runs within its deadline)."""
 
     def __init__(
         self, family: GroundFamily, planner: NodePlanner, *, options: Options | None = None
     ):
         self.family = family
         self.planner = planner
-        self.deadline = planner.deadline
         quick_nodes = (options or planner.options).quick_nodes
         # the built-in planner starts with the same uniform-cost search: no quick tier then
         self.quick_nodes = 0 if planner.kind == "builtin" else quick_nodes
@@ -87,7 +86,9 @@ class TieredOpt:
         if best is not None and best[0] <= bound:
             return done(Status.OPTIMAL, best[1], best[0], "cached")
         if self.quick_nodes:
-            r = astar(task, heuristic="blind", deadline=self.deadline, node_limit=self.quick_nodes)
+            # no deadline: quick_nodes bounds it, and a proof it finds is kept even at the
+            # deadline (the loop then still reports the robot optimum and a lower bound)
+            r = astar(task, heuristic="blind", node_limit=self.quick_nodes)
             if r.status.decided:
                 return done(r.status, r.plan, r.cost, "quick_search")
         self.stats["opt_by_planner"] += 1

@@ -82,9 +82,12 @@ def astar(
     heuristic: str = "lmcut",
     deadline: Deadline | None = None,
     node_limit: int | None = None,
+    time_limit: float | None = None,
 ) -> PlanResult:
-    """Optimal plan of ``task`` by A* with reopening; ``TIMEOUT`` once ``deadline`` has passed,
-    ``LIMIT`` after ``node_limit`` expansions."""
+    """Optimal plan of ``task`` by A* with reopening; ``TIMEOUT`` once ``deadline`` has passed
+    (or ``time_limit`` seconds, a limit of this call alone, still used by the SAT oracles'
+    fallback search), ``LIMIT`` after ``node_limit`` expansions."""
+    deadline = within(deadline, time_limit)
     if heuristic not in HEURISTICS:
         raise ValueError(f"unknown heuristic {heuristic!r} (choose from {', '.join(HEURISTICS)})")
     t0 = time.perf_counter()
