@@ -28,7 +28,9 @@ from pysat.card import ITotalizer
 from mega_sat.analysis.invariants import NEVER, EncodingFacts, Invariants, encoding_facts
 from mega_sat.ground.family import GroundFamily, Guard, GuardLit
 from mega_sat.model.lifted import PlanStep, step_str
-from mega_sat.sat.symmetry import Swap, object_swaps
+from mega_sat.sat.cost_bounds import CostBounds
+from mega_sat.sat.ordering import StepOrdering
+from mega_sat.sat.symmetry import object_swaps
 
 HUMAN = "human"
 ROBOT = "robot"
@@ -70,7 +72,7 @@ def _state_lit(base: int, lit: int) -> int:
     return base + lit if lit > 0 else -(base - lit)
 
 
-class FamilyEncoding:
+class FamilyEncoding(StepOrdering, CostBounds):
     """Bounded-horizon sequential encoding of ``family`` with one or two state copies.
 
     ``sink`` receives every clause (``Solver.add_clause`` or ``CNF.append``).  Variables are
@@ -448,217 +450,6 @@ class FamilyEncoding:
             if tot is not None and new_units[c]:
                 tot.extend(lits=new_units[c], top_id=self.top)
                 self._take_totalizer_clauses(tot, tot.nof_new)
-
-    def _lex_step(self, sw: Swap, lex: list[int], a_base: int) -> None:
-        """Lex-leader clauses of one step: while every earlier action was fixed by the swap,
-        the step's action must not be the larger of a swapped pair."""
-        cur = lex[-1]
-        nxt = self._alloc(1) + 1
-        lex.append(nxt)
-        moved = sw.moved
-        self._emit([-nxt, cur])
-        for j in moved:
-            self._emit([-nxt, -(a_base + j + 1)])
-            if sw.action_perm[j] < j:
-                self._emit([-cur, -(a_base + j + 1)])
-        self._emit([-cur, nxt, *(a_base + j + 1 for j in moved)])
-
-    def _ordering(self, t: int) -> None:
-        """Partial-order reduction: of two adjacent *independent* actions, the one with the
-        smaller index comes first.
-
-        Role variables ``R[t][(kind, p)]`` say exactly "the action at step t reads (``pre``),
-        modifies (``mod``), adds (``add``) or deletes (``del``) atom p" over the union of all
-        guarded components (independence must hold in every model of the family).  Action
-        ``k`` at step ``t`` then needs an action of index ``<= k`` at ``t-1`` or one that
-        interferes with it.  Linear size; sound because bubble-sorting any plan by swapping
-        adjacent independent inversions keeps it valid, with the same final state and cost,
-        in every model (``encodings/sequential.md``).
-        """
-        roles: dict[tuple[str, int], int] = {}
-        base = self._alloc(len(self._role_members))
-        for off, (key, members) in enumerate(self._role_members.items()):
-            v = base + off + 1
-            roles[key] = v
-            for j in members:
-                self._emit([-self.a(t, j), v])
-            self._emit([-v, *(self.a(t, j) for j in members)])
-        self.roles.append(roles)
-        if t == 0:
-            return
-        prev, pre_s = self.roles[t - 1], self.prefix[t - 1]
-        for k in range(self.n_actions - 1):  # the last index is never an inversion
-            clause = [-self.a(t, k), pre_s[k]]
-            clause.extend(prev[key] for key in self._interferes[k] if key in prev)
-            self._emit(clause)
-
-    def _prepare_ordering(self) -> None:
-        """Static interference data for :meth:`_ordering` (guards ignored: conservative)."""
-        members: dict[tuple[str, int], set[int]] = {}
-        for j, act in enumerate(self.family.actions):
-            for p, _ in act.pre + act.negpre:
-                members.setdefault(("pre", p), set()).add(j)
-            for p, _ in act.add + act.delete:
-                members.setdefault(("mod", p), set()).add(j)
-            for p, _ in act.add:
-                members.setdefault(("add", p), set()).add(j)
-            for p, _ in act.delete:
-                members.setdefault(("del", p), set()).add(j)
-        self._interferes: list[list[tuple[str, int]]] = []
-        needed: set[tuple[str, int]] = set()
-        for act in self.family.actions:
-            keys = {("mod", p) for p, _ in act.pre + act.negpre}
-            keys |= {("pre", p) for p, _ in act.add + act.delete}
-            keys |= {("del", p) for p, _ in act.add}
-            keys |= {("add", p) for p, _ in act.delete}
-            keys &= members.keys()
-            self._interferes.append(sorted(keys))
-            needed |= keys
-        self._role_members = {k: sorted(members[k]) for k in sorted(needed)}
-
-    def _add_binary(self, xs: list[int], ys: list[int], width: int) -> list[int]:
-        """Bits of ``xs + ys`` (least significant first) by a ripple-carry adder, exact both
-        ways, truncated to ``width`` bits with every bit above forced false.
-
-        Forcing the overflow false removes no model in which the step costs are exact (their
-        sum is below ``2**width``), and in every other model the truncated bits are the true
-        sum of the per-step upper bounds, so the sum never wraps around below a plan's cost."""
-        out: list[int] = []
-        carry: list[int] = []
-        for i in range(max(len(xs), len(ys)) + 1):
-            ins = [bits[i] for bits in (xs, ys) if i < len(bits)] + carry
-            if not ins:
-                break
-            carry = []
-            if len(ins) == 1:
-                bit = ins[0]
-            else:
-                bit = self._alloc(1) + 1
-                cout = self._alloc(1) + 1
-                carry = [cout]
-                a, b = ins[0], ins[1]
-                if len(ins) == 2:  # half adder: bit = a xor b, cout = a and b
-                    for clause in (
-                        [-a, -b, -bit], [a, b, -bit], [-a, b, bit], [a, -b, bit],
-                        [-cout, a], [-cout, b], [-a, -b, cout],
-                    ):  # fmt: skip
-                        self._emit(clause)
-                else:  # full adder: bit = a xor b xor d, cout = majority(a, b, d)
-                    d = ins[2]
-                    for sa in (1, -1):
-                        for sb in (1, -1):
-                            for sd in (1, -1):
-                                odd = ((sa > 0) + (sb > 0) + (sd > 0)) % 2 == 1
-                                self._emit([-sa * a, -sb * b, -sd * d, bit if odd else -bit])
-                    for clause in (
-                        [-a, -b, cout], [-a, -d, cout], [-b, -d, cout],
-                        [a, b, -cout], [a, d, -cout], [b, d, -cout],
-                    ):  # fmt: skip
-                        self._emit(clause)
-            if i < width:
-                out.append(bit)
-            else:
-                self._emit([-bit])
-        for c in carry:
-            self._emit([-c])
-        return out
-
-    def _at_most(self, bits: list[int], bound: int) -> int:
-        """A fresh literal that implies "the binary number ``bits`` is at most ``bound``":
-        for every 0-bit ``i`` of ``bound``, not (bit ``i`` and every higher bit that is 1 in
-        ``bound``); the highest bit where the number and ``bound`` differ is such a clause."""
-        g = self._alloc(1) + 1
-        for i, bit in enumerate(bits):
-            if not bound >> i & 1:
-                higher = [-bits[j] for j in range(i + 1, len(bits)) if bound >> j & 1]
-                self._emit([-g, -bit, *higher])
-        return g
-
-    def _take_totalizer_clauses(self, tot: ITotalizer, count: int) -> None:
-        if count:
-            for clause in tot.cnf.clauses[-count:]:
-                self._emit(list(clause))
-        self.top = max(self.top, tot.top_id)
-
-    # ------------------------------------------------------------ assumptions
-    def goal_assumptions(self, h: int) -> list[int]:
-        """Assumptions "every copy reaches its goal after exactly ``h`` steps".
-
-        With symmetry breaking also ``-act[h]`` (no action from step h on), so the solver need
-        not consider the steps beyond ``h`` that a longer encoding has.
-        """
-        if h < 0:
-            raise ValueError("negative horizon")
-        self.extend(h)
-        g = self.goal_act.get(h)
-        if g is None:
-            t0 = time.perf_counter()
-            g = self._alloc(1) + 1
-            self.goal_act[h] = g
-            # no action is needed fewer steps before the goal than its backward layer
-            for j, k in enumerate(self._to_goal):
-                for t in range(max(0, h - k + 1), h) if k < NEVER else ():
-                    self._emit([-g, -self.a(t, j)])
-            for c in self.copies:
-                for p, guard in self.family.goal:
-                    gv = self._guard(c, guard)
-                    if gv is False:
-                        continue
-                    lits = [-g, self.x(c, h, p)]
-                    if gv is not True:
-                        lits.insert(1, -self._resolve(gv, None))
-                    self._emit(lits)
-            self.grow_s += time.perf_counter() - t0
-        out = [g]
-        if self.horizon > h and self.symmetry_breaking:
-            out.append(-self.act[h])
-        elif self.horizon > h:
-            out.extend(-self.a(t, j) for t in range(h, self.horizon) for j in range(self.n_actions))
-        return out
-
-    def cost_assumptions(self, copy: str, bound: int | None, horizon: int = 0) -> list[int] | None:
-        """Assumptions "total cost of ``copy`` over all steps <= ``bound``".
-
-        The encoding is first extended to ``horizon`` steps: growing it later replaces the
-        totalizer outputs, so literals returned before an extension must not be used after it.
-        ``horizon`` must be the one given to :meth:`goal_assumptions` in the same call (the
-        steps after it are idle, which lets unit-cost bounds be dropped entirely).
-        ``[]`` when the bound cannot bite; ``None`` when it is unsatisfiable (bound < 0).
-        """
-        self.extend(horizon)
-        if bound is None:
-            return []
-        if bound < 0:
-            return None
-        b = bound // self.cost_unit
-        if b >= horizon * self.max_units:
-            return []  # cannot bite (goal_assumptions(horizon) idles the later steps)
-        if self.binary:
-            # the sum of steps 0..horizon-1: the later steps are idle, and the literal stays
-            # valid when the encoding grows
-            key = (copy, horizon, b)
-            g = self._cmp.get(key)
-            if g is None:
-                t0 = time.perf_counter()
-                g = self._cmp[key] = self._at_most(self.sum_bits[copy][horizon], b)
-                self.grow_s += time.perf_counter() - t0
-            return [g]
-        units = [
-            self.u(copy, t, k) for t in range(self.horizon) for k in range(1, self.max_units + 1)
-        ]
-        if b >= len(units):
-            return []
-        tot = self._tot[copy]
-        t0 = time.perf_counter()
-        if tot is None:
-            tot = ITotalizer(lits=units, ubound=b + 1, top_id=self.top)
-            self._tot[copy] = tot
-            self._take_totalizer_clauses(tot, len(tot.cnf.clauses))
-        elif tot.ubound < b + 1:
-            tot.increase(ubound=b + 1, top_id=self.top)
-            self._take_totalizer_clauses(tot, tot.nof_new)
-        self.grow_s += time.perf_counter() - t0
-        return [-tot.rhs[b]]
 
     # ---------------------------------------------------------------- decode
     def decode_plan(self, model: Sequence[int], h: int) -> tuple[PlanStep, ...]:
