@@ -34,7 +34,7 @@ from mega_sat.pddl.multi_task import MultiHumanTask, load_multi_task, load_multi
 from mega_sat.pddl.planio import as_plan
 from mega_sat.pddl.up_models import load_task_from_up
 from mega_sat.pddl.update_costs import UpdateCosts, cost_vector, load_update_costs
-from mega_sat.planners.node_planner import PLANNERS, sat_solver_names
+from mega_sat.planners.node_planner import checked_run_arguments
 from mega_sat.results import Explanation, Frontier, FrontierPoint, Solution, check_alpha, choose
 
 ENGINES = ("sat", "astar")
@@ -119,24 +119,9 @@ class MegaSolver:
             )
         if engine not in ENGINES:
             raise UsageError(f"unknown engine {engine!r} (choose from {', '.join(ENGINES)})")
-        if planner is not None and planner not in PLANNERS:
-            raise UsageError(f"unknown planner {planner!r} (choose from {', '.join(PLANNERS)})")
-        if not isinstance(solver, str) or solver not in sat_solver_names():
-            raise UsageError(
-                f"unknown SAT solver {solver!r} (choose from {', '.join(sat_solver_names())})"
-            )
         if hitting_set not in ("rc2", "ilp"):
             raise UsageError(f"unknown hitting-set solver {hitting_set!r} (choose rc2 or ilp)")
-        if options is None:
-            options = Options()
-        elif not isinstance(options, Options):
-            raise UsageError(
-                f"options must be a mega_sat.options.Options, got {type(options).__name__}"
-            )
-        if deadline is None:
-            deadline = Deadline.after(timeout)
-        elif timeout is not None:
-            raise UsageError("give either timeout or deadline, not both")
+        deadline, options = checked_run_arguments(planner, solver, options, timeout, deadline)
         from mega_sat.engines.sat_loop import JOINT_METHODS
 
         if joint is not None and joint not in JOINT_METHODS:

@@ -372,25 +372,14 @@ class MultiHumanSolver:
                 "--hitting-set does not apply to several human models (explanations are "
                 "enumerated in order of cost)"
             )
-        from mega_sat.planners.node_planner import PLANNERS, sat_solver_names
+        from mega_sat.planners.node_planner import checked_run_arguments
 
-        if planner is not None and planner not in PLANNERS:
-            raise UsageError(f"unknown planner {planner!r} (choose from {', '.join(PLANNERS)})")
-        if not isinstance(solver, str) or solver not in sat_solver_names():
-            raise UsageError(f"unknown SAT solver {solver!r}")
-        if deadline is None:
-            deadline = Deadline.after(timeout)
-        elif timeout is not None:
-            raise UsageError("give either timeout or deadline, not both")
+        deadline, options = checked_run_arguments(planner, solver, options, timeout, deadline)
         self.task = task
         self.engine = engine
         self._planner = planner
         self.solver = solver
-        if options is not None and not isinstance(options, Options):
-            raise UsageError(
-                f"options must be a mega_sat.options.Options, got {type(options).__name__}"
-            )
-        self.options = options if options is not None else DEFAULT
+        self.options = options
         self.deadline = deadline
         self.timeout = deadline.seconds
         self.update_costs: tuple[int, ...] | None = cost_vector(task, update_costs)

@@ -39,6 +39,34 @@ NodePlan = PlanResult
 """The earlier name of a planner call's answer, kept for code that imports it."""
 
 
+def checked_run_arguments(
+    planner: str | None,
+    solver: str,
+    options: Options | None,
+    timeout: float | None,
+    deadline: Deadline | None,
+) -> tuple[Deadline, Options]:
+    """The arguments every solver front end shares, checked: the planner and SAT solver names,
+    the options object and one time limit (``timeout`` or ``deadline``, not both)."""
+    if planner is not None and planner not in PLANNERS:
+        raise UsageError(f"unknown planner {planner!r} (choose from {', '.join(PLANNERS)})")
+    if not isinstance(solver, str) or solver not in sat_solver_names():
+        raise UsageError(
+            f"unknown SAT solver {solver!r} (choose from {', '.join(sat_solver_names())})"
+        )
+    if options is None:
+        options = DEFAULT
+    elif not isinstance(options, Options):
+        raise UsageError(
+            f"options must be a mega_sat.options.Options, got {type(options).__name__}"
+        )
+    if deadline is None:
+        deadline = Deadline.after(timeout)
+    elif timeout is not None:
+        raise UsageError("give either timeout or deadline, not both")
+    return deadline, options
+
+
 class NodePlanner:
     """Answers ``optimal(selection)`` for one task with one planner; keeps what it can alive
     (the SAT oracles, the ground family) across calls.
