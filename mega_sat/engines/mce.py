@@ -17,7 +17,7 @@ from collections.abc import Sequence
 from mega_sat.deadline import Deadline
 from mega_sat.engines.hitting_set import make_hitting_set
 from mega_sat.engines.progress import Progress
-from mega_sat.engines.support import exclusion_clause, support, tight_support
+from mega_sat.engines.support import causal_support, exclusion_clause, support
 from mega_sat.errors import PlannerError, UsageError
 from mega_sat.ground.family import GroundFamily
 from mega_sat.ground.simulate import simulate, simulate_ground
@@ -131,7 +131,7 @@ def minimal_explanation(
                 for guards, _ in family.actions[family.action_index[s]].cost
                 for i, _ in guards
             }
-            on = cost_guards | {i for i, _ in tight_support(family, sel, opt.plan)}
+            on = cost_guards | {i for i, _ in causal_support(family, sel, opt.plan)}
             hs.add(exclusion_clause(sel, on))
             calls["learned"] += 1
     finally:

@@ -11,7 +11,7 @@ optimal (it fails, or another plan is cheaper), found by simulation, by one OPT 
 ``E' = E``, or else by an exhaustive search over pairs (state, partial selection of the updates
 outside ``E``).  The witness generalises to the clause "``E`` must contain an update of
 ``S \\ E'``", where ``S`` is the support of the evidence (``support(pi)`` for a failing ``pi``,
-``costs(pi) ∪ tight_support(E', pi')`` for a cheaper ``pi'``); ``E'`` is first grown while it
+``costs(pi) ∪ causal_support(E', pi')`` for a cheaper ``pi'``); ``E'`` is first grown while it
 stays a witness, which shrinks the clause.  A candidate without a witness is an MME: the
 clauses only remove sets that have a non-monotonic superset.  The argument is in
 ``encodings/mme.md``.
@@ -28,7 +28,7 @@ from dataclasses import dataclass
 from mega_sat.deadline import Deadline
 from mega_sat.engines.hitting_set import make_hitting_set
 from mega_sat.engines.progress import Progress
-from mega_sat.engines.support import support, tight_support
+from mega_sat.engines.support import causal_support, support
 from mega_sat.errors import PlannerError, UsageError
 from mega_sat.ground.family import GroundFamily, Guard
 from mega_sat.ground.simulate import simulate, simulate_ground
@@ -441,14 +441,14 @@ def minimally_monotonic_explanation(
         for h in (*extra, *reversed(hints)):
             other = simulate_ground(ground, h)
             if other.valid and other.cost < sim.cost:
-                return Evidence(sel, h, cost_guards | _indices(tight_support(family, sel, h)))
+                return Evidence(sel, h, cost_guards | _indices(causal_support(family, sel, h)))
         if not use_opt:
             return None
         opt = np_.optimal(sel)
         if opt.status == Status.OPTIMAL and opt.cost < sim.cost:
             hints.append(opt.plan)
             return Evidence(
-                sel, opt.plan, cost_guards | _indices(tight_support(family, sel, opt.plan))
+                sel, opt.plan, cost_guards | _indices(causal_support(family, sel, opt.plan))
             )
         return None
 

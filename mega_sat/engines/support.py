@@ -78,6 +78,7 @@ def unsolvable_core(
     search_seconds: float = 0.0,
     node_limit: int = 2_000,
     deadline: Deadline | None = None,
+    cut_short: list[int] | None = None,
 ) -> frozenset[int] | None:
     """A set ``S`` of updates such that every selection agreeing with ``selection`` on ``S`` has
     no plan, for an unsolvable ``human + selection``; ``None`` when nothing smaller than "all
@@ -90,7 +91,8 @@ def unsolvable_core(
     (:func:`mega_sat.analysis.abstraction.abstract_task`), of at most ``node_limit`` expansions
     each and ``search_seconds`` in all; a search cut short proves nothing and keeps the update.
     Once ``deadline`` has passed no search runs and no update is tried any more: the updates
-    not yet dropped stay in ``S``, which is still sound, only larger.
+    not yet dropped stay in ``S``, which is still sound, only larger.  ``cut_short`` (a list)
+    receives the number of trials whose search ran out of nodes or seconds.
     """
     from mega_sat.analysis.abstraction import abstract_task
     from mega_sat.analysis.pair_reachability import goal_pair_unreachable
@@ -107,9 +109,13 @@ def unsolvable_core(
         if goal_pair_unreachable(abstraction):
             return True
         if searches.expired():
+            short[0] += 1
             return False
         r = astar(abstraction, heuristic="blind", deadline=searches, node_limit=node_limit)
+        short[0] += not r.status.decided
         return r.status == Status.UNSOLVABLE
+
+    short = [0]
 
     fixed = everything
     for i in sorted(everything):
@@ -118,6 +124,8 @@ def unsolvable_core(
         trial = fixed - {i}
         if unsolvable(trial):
             fixed = trial
+    if cut_short is not None:
+        cut_short.append(short[0])
     return None if fixed == everything else fixed
 
 
@@ -158,5 +166,93 @@ def tight_support(
         state = (state - dels) | adds
     for p, g in family.goal:
         if g and p not in state:
+            fixed.add(g[0])
+    return tuple(sorted((i, i in selection) for i in fixed))
+
+
+def causal_support(
+    family: GroundFamily, selection: frozenset[int], plan: Sequence[PlanStep]
+) -> tuple[GuardLit, ...]:
+    """Like :func:`tight_support` (same guarantee, same use), but an atom's history is pinned
+    only along the causal link that makes each condition hold, not as a whole.
+
+    For a condition that holds at its step (a precondition whose atom is true, a negative
+    precondition whose atom is false, a goal at the end), only the entries that decide the
+    atom's value since its last change matter: for a true atom, the add (or initial) entry of
+    its last achiever and the deletes after it, which are absent and must stay absent; for a
+    false atom, the delete and the absent adds of its last deleter (or its absent initial
+    entries) and the adds after it.  Entries outside these links may flip without changing
+    the truth of any condition the plan looks at.  A condition that does not hold is absent
+    (or the plan would fail) and its guard stays fixed, as in :func:`tight_support`.
+    (Argument in ``encodings/hitting-set.md``, "The causal support".)
+    """
+    from mega_sat.ground.family import holds
+
+    acts = [family.actions[family.action_index[s]] for s in plan]
+    fixed: set[int] = set()
+    # the trajectory in human + selection: states[t] holds before step t
+    state = {p for p, g in family.init if holds(g, selection)}
+    states = [state]
+    for a in acts:
+        dels = {p for p, g in a.delete if holds(g, selection)}
+        adds = {p for p, g in a.add if holds(g, selection)}
+        state = (state - dels) | adds
+        states.append(state)
+    init_entries: dict[int, list] = {}
+    for p, g in family.init:
+        init_entries.setdefault(p, []).append(g)
+    pinned: set[tuple[int, int, bool]] = set()
+
+    def entries(a, p: int, kind: str):
+        return [g for q, g in (a.add if kind == "add" else a.delete) if q == p]
+
+    def pin(p: int, t: int, value: bool) -> None:
+        """Fix the guards that keep ``p`` at ``value`` just before step ``t``."""
+        if (p, t, value) in pinned:
+            return
+        pinned.add((p, t, value))
+        for s in range(t - 1, -1, -1):
+            a = acts[s]
+            adds = entries(a, p, "add")
+            if value:
+                present = [g for g in adds if holds(g, selection)]
+                if present:  # the last achiever: one present add keeps p true after s
+                    if None not in present:
+                        fixed.add(present[0][0])
+                    return
+                # not added here, and p stays true: every delete of p here is absent
+                fixed.update(g[0] for g in entries(a, p, "delete") if g)
+            else:
+                fixed.update(g[0] for g in adds if g)  # every add absent, stays absent
+                if any(holds(g, selection) for g in entries(a, p, "delete")):
+                    dels = [g for g in entries(a, p, "delete") if holds(g, selection)]
+                    if dels[0]:
+                        fixed.add(dels[0][0])
+                    return  # the last deleter
+        here = init_entries.get(p, [])
+        if not value:
+            fixed.update(g[0] for g in here if g)  # absent initially, and stays absent
+        elif None not in here:
+            fixed.add(next(g for g in here if holds(g, selection))[0])
+
+    for t, a in enumerate(acts):
+        if a.exists:
+            fixed.add(a.exists[0])
+        fixed.update(i for guards, _ in a.cost for i, _ in guards)
+        for p, g in a.pre:
+            if p in states[t]:
+                pin(p, t, True)
+            elif g:
+                fixed.add(g[0])  # absent now (else the plan would fail): must stay absent
+        for p, g in a.negpre:
+            if p not in states[t]:
+                pin(p, t, False)
+            elif g:
+                fixed.add(g[0])
+    end = len(acts)
+    for p, g in family.goal:
+        if p in states[end]:
+            pin(p, end, True)
+        elif g:
             fixed.add(g[0])
     return tuple(sorted((i, i in selection) for i in fixed))
