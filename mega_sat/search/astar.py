@@ -31,6 +31,29 @@ from mega_sat.status import Status
 
 HEURISTICS = ("lmcut", "hmax", "blind")
 _INF = float("inf")
+_MIX = 0x9E3779B97F4A7C15F39CC0605CEDC835  # odd: multiplying by it is a bijection mod 2^k
+
+
+def state_key_mask(n_facts: int) -> int | None:
+    """``None`` when states (bitsets over ``n_facts`` facts) hash well as they are, else the
+    mask ``2^k - 1`` of the injective map ``s -> (s * _MIX) & mask`` whose values serve as
+    dictionary keys.
+
+    A Python int hashes to its value modulo ``2^61 - 1``, so bits ``i`` and ``i + 61`` count
+    the same: with 61 or more facts, states that trade one such fact for the other collide.
+    The two-fact abstraction of a family with 61 atoms (``T_p`` at ``p``, ``F_p`` at
+    ``61 + p``) is the worst case: every state hashes alike and each lookup scans them all.
+    Multiplying by an odd constant modulo ``2^k`` is injective on ``k``-bit states and spreads
+    every bit over the high ones."""
+    return None if n_facts <= 60 else (1 << (n_facts + 64)) - 1
+
+
+def state_keys(n_facts: int):
+    """The map of :func:`state_key_mask` as a function (``None``: states are their keys)."""
+    mask = state_key_mask(n_facts)
+    return None if mask is None else (lambda s: (s * _MIX) & mask)
+
+
 _CHECK_EVERY = 32
 """Expansions between two reads of the clock: often enough to stop within milliseconds of the
 deadline, rarely enough that the clock costs nothing."""
@@ -131,17 +154,19 @@ def astar(
         return result(status, plan, cost)
     groups = _successor_groups(task)
     actions = task.actions
-    best_g: dict[int, int] = {init: 0}
-    parent: dict[int, tuple[int, int] | None] = {init: None}
-    h_cache: dict[int, float] = {init: h0}
+    key, mask = state_keys(len(task.atoms)), state_key_mask(len(task.atoms))
+    k0 = init if key is None else key(init)
+    best_g: dict[int, int] = {k0: 0}
+    parent: dict[int, tuple[int, int] | None] = {k0: None}
+    h_cache: dict[int, float] = {k0: h0}
     counter = 0
-    open_list: list[tuple] = [(h0, h0, counter, 0, init)]
+    open_list: list[tuple] = [(h0, h0, counter, 0, init, k0)]
     while open_list:
-        _, _, _, g, s = heapq.heappop(open_list)
-        if g > best_g[s]:
+        _, _, _, g, s, k = heapq.heappop(open_list)
+        if g > best_g[k]:
             continue
         if s & goal == goal:
-            return result(Status.OPTIMAL, _trace(parent, actions, s), g)
+            return result(Status.OPTIMAL, _trace(parent, actions, s, key), g)
         if node_limit is not None and expanded >= node_limit:
             return result(Status.LIMIT)
         if stop_at is not None and expanded % _CHECK_EVERY == 0 and time.perf_counter() > stop_at:
@@ -154,28 +179,30 @@ def astar(
                 if s & pre != pre or s & neg:
                     continue
                 s2 = (s & keep) | add
+                k2 = s2 if mask is None else (s2 * _MIX) & mask
                 g2 = g + c
-                old = best_g.get(s2)
+                old = best_g.get(k2)
                 if old is not None and g2 >= old:
                     continue
-                h2 = h_cache.get(s2)
+                h2 = h_cache.get(k2)
                 if h2 is None:
-                    h2 = h_cache[s2] = h_of(s2)
+                    h2 = h_cache[k2] = h_of(s2)
                 if h2 == _INF:
                     continue
-                best_g[s2] = g2
-                parent[s2] = (s, j)
+                best_g[k2] = g2
+                parent[k2] = (s, j)
                 counter += 1
-                heapq.heappush(open_list, (g2 + h2, h2, counter, g2, s2))
+                heapq.heappush(open_list, (g2 + h2, h2, counter, g2, s2, k2))
     return result(Status.UNSOLVABLE)
 
 
 def _trace(
-    parent: dict[int, tuple[int, int] | None], actions: tuple, s: int
+    parent: dict[int, tuple[int, int] | None], actions: tuple, s: int, key=None
 ) -> tuple[PlanStep, ...]:
-    """The plan that reached state ``s``, read back along ``parent`` (state, action index)."""
+    """The plan that reached state ``s``, read back along ``parent`` (state, action index;
+    keyed by ``key(state)`` when given, see :func:`state_keys`)."""
     steps = []
-    while (link := parent[s]) is not None:
+    while (link := parent[s if key is None else key(s)]) is not None:
         s, j = link
         steps.append(actions[j].step)
     return tuple(reversed(steps))
@@ -193,10 +220,25 @@ def _uniform_cost(
     in exactly the order of :func:`astar`'s heap with ``h = 0`` (lower ``g``, then first
     generated), without the heap, which pays off on tasks where most actions cost 0 and whole
     layers share one ``g``."""
+    steps = uniform_cost_steps(task, init, goal, node_limit)
+    try:
+        while True:
+            expanded = next(steps)
+            if stop_at is not None and time.perf_counter() > stop_at:
+                return Status.TIMEOUT, None, None, expanded
+    except StopIteration as done:
+        return done.value
+
+
+def uniform_cost_steps(task: GroundTask, init: int, goal: int, node_limit: int | None = None):
+    """:func:`_uniform_cost` as a generator that can be paused and resumed: it yields the
+    count of expanded states every few expansions and returns ``(status, plan, cost,
+    expanded)``.  The portfolio planner runs it in time slices without starting over."""
     groups = _successor_groups(task)
     actions = task.actions
-    best_g: dict[int, int] = {init: 0}
-    parent: dict[int, tuple[int, int] | None] = {init: None}
+    key, mask = state_keys(len(task.atoms)), state_key_mask(len(task.atoms))
+    best_g: dict[int, int] = {init if key is None else key(init): 0}
+    parent: dict[int, tuple[int, int] | None] = {init if key is None else key(init): None}
     buckets: dict[int, list[int]] = {0: [init]}
     pending = [0]  # the g values with a list, as a heap
     expanded = 0
@@ -207,18 +249,14 @@ def _uniform_cost(
         while i < len(queue):  # zero-cost successors are appended while we go
             s = queue[i]
             i += 1
-            if best_g[s] != g:
+            if best_g[s if mask is None else (s * _MIX) & mask] != g:
                 continue
             if s & goal == goal:
-                return Status.OPTIMAL, _trace(parent, actions, s), g, expanded
+                return Status.OPTIMAL, _trace(parent, actions, s, key), g, expanded
             if node_limit is not None and expanded >= node_limit:
                 return Status.LIMIT, None, None, expanded
-            if (
-                stop_at is not None
-                and expanded % _CHECK_EVERY == 0
-                and time.perf_counter() > stop_at
-            ):
-                return Status.TIMEOUT, None, None, expanded
+            if expanded % _CHECK_EVERY == 0:
+                yield expanded
             expanded += 1
             for bit, acts in groups:
                 if bit and not s & bit:
@@ -227,12 +265,13 @@ def _uniform_cost(
                     if s & pre != pre or s & neg:
                         continue
                     s2 = (s & keep) | add
+                    k2 = s2 if mask is None else (s2 * _MIX) & mask
                     g2 = g + c
-                    old = best_g.get(s2)
+                    old = best_g.get(k2)
                     if old is not None and g2 >= old:
                         continue
-                    best_g[s2] = g2
-                    parent[s2] = (s, j)
+                    best_g[k2] = g2
+                    parent[k2] = (s, j)
                     if g2 == g:
                         queue.append(s2)
                     elif g2 in buckets:
