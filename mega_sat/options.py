@@ -121,6 +121,13 @@ class Options:
         default=2000,
         metadata={"doc": "nodes of each of those searches (one per update tried)"},
     )
+    core_budget_growth: int = field(
+        default=32,
+        metadata={
+            "doc": "the largest factor by which those nodes and seconds grow while searches "
+            "keep running out of them (they double per such core, halve per core without)"
+        },
+    )
     portfolio_conflicts: int = field(
         default=5000,
         metadata={"doc": "first SAT conflict budget of a JOINT call under --joint portfolio"},
@@ -140,6 +147,20 @@ class Options:
     quick_nodes: int = field(
         default=5000,
         metadata={"doc": "nodes of the blind search tried first in the sat engine's OPT"},
+    )
+    race_slice: float = field(
+        default=0.05,
+        metadata={
+            "doc": "seconds of the first turn of each method in the portfolio planner's "
+            "time-sliced race (explicit search, then SAT OPT; turns double until one decides)"
+        },
+    )
+    race_processes: bool = field(
+        default=True,
+        metadata={
+            "doc": "the portfolio planner runs its search in a forked process beside SAT "
+            "(both cores; POSIX only); false: the two take turns in one process"
+        },
     )
     blind_nodes: int = field(
         default=300_000,

@@ -158,7 +158,7 @@ def test_plan_validate_apply_encode(toy, tmp_path):
     res = run("plan", "--domain", toy / "d.pddl", "--problem", toy / "p.pddl")
     assert res.exit_code == 0
     assert res.output.splitlines() == ["(go a b)", "; cost = 1 (general cost)"]
-    for planner in ("sat", "builtin"):
+    for planner in ("sat", "builtin", "portfolio"):
         r = run(
             "plan",
             "--domain",

@@ -13,6 +13,7 @@ from mega_sat.api import MegaSolver
 from mega_sat.engines.verify import verify_pair
 from mega_sat.ground.grounding import ground
 from mega_sat.model.features import gamma
+from mega_sat.options import Options
 from mega_sat.pddl.loading import load_task, resolve_task_dir
 from mega_sat.pddl.reader import parse_model
 from mega_sat.pddl.writer import domain_to_pddl, problem_to_pddl
@@ -99,11 +100,12 @@ def test_sat_opt_equals_builtin(rel):
     task = _task(rel)
     fam = ground(task)
     sat, builtin = NodePlanner(task, fam, "sat"), NodePlanner(task, fam, "builtin")
+    race = NodePlanner(task, fam, "portfolio", options=Options(race_slice=0.001))
     sels = [frozenset(), task.all_updates, frozenset(range(1, len(task.delta), 2))]
     for sel in sels:
-        a, b = sat.optimal(sel), builtin.optimal(sel)
-        assert (a.status, a.cost) == (b.status, b.cost)
-        assert a.exact
+        a, b, c = sat.optimal(sel), builtin.optimal(sel), race.optimal(sel)
+        assert (a.status, a.cost) == (b.status, b.cost) == (c.status, c.cost)
+        assert a.exact and c.exact and c.planner in ("builtin", "sat")
 
 
 @pytest.mark.parametrize("rel", ORACLE_FAST)

@@ -182,7 +182,7 @@ def test_anytime_returns_lower_bound():
     assert any("time limit" in n for n in fr.notes)
 
 
-@pytest.mark.parametrize("planner", ["builtin", "sat"])
+@pytest.mark.parametrize("planner", ["builtin", "sat", "portfolio"])
 def test_time_limit_bounds_the_explicit_opt_planner(planner):
     """The sat engine's OPT planner gets what is left of the time limit.  barman-bar Δ=15 p3
     has human models whose optimum takes the built-in planner more than a minute; before the
@@ -211,15 +211,15 @@ def test_time_limit_bounds_the_explicit_opt_planner(planner):
 @settings(SETTINGS, max_examples=80)
 @given(st.one_of(two_model_tasks(max_delta=5, allow_zero_cost=True), tradeoff_tasks()))
 def test_default_engine_settings_follow_the_costs_and_stay_exact(task):
-    """MegaSolver's defaults: SAT for OPT and JOINT, except with zero-cost actions (where the
-    horizon argument proves nothing): the built-in planner and the portfolio.  Either way the
-    frontier is the brute-force one."""
+    """MegaSolver's defaults: the OPT portfolio (search and SAT in turns) and SAT JOINT, except
+    with zero-cost actions (where the horizon argument proves nothing): the built-in planner
+    and the JOINT portfolio.  Either way the frontier is the brute-force one."""
     from mega_sat.api import MegaSolver
 
     fam = ground(task)
     zero = fam.min_cost <= 0
     s = MegaSolver(task)
-    assert s.planner == ("builtin" if zero else "sat")
+    assert s.planner == ("builtin" if zero else "portfolio")
     assert s.joint == ("portfolio" if zero else "sat")
     assert MegaSolver(task, engine="astar").planner == "builtin"
     assert MegaSolver(task, planner="fd", joint="search").joint == "search"

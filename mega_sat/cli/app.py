@@ -50,7 +50,7 @@ from mega_sat.errors import (
 )
 
 ENGINE = click.Choice(["sat", "astar"])
-PLANNER = click.Choice(["builtin", "sat", "fd"])
+PLANNER = click.Choice(["builtin", "sat", "fd", "portfolio"])
 HITTING = click.Choice(["rc2", "ilp"])
 
 BACKSTOP_SHARE = 0.1

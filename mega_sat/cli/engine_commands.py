@@ -61,7 +61,8 @@ def engine_options(fn):
             type=PLANNER,
             default=None,
             help="Optimal planner for candidate models: per-node planner of astar, "
-            "OPT oracle of sat.  [default: builtin for astar; sat for the sat engine, "
+            "OPT oracle of sat; portfolio = builtin and sat in turns, the first to decide "
+            "answers.  [default: builtin for astar; portfolio for the sat engine, "
             "builtin if some action costs 0]",
         ),
         click.option(

@@ -8,7 +8,7 @@ Loop (encodings/hitting-set.md), from the explicable end toward the robot-optima
     JOINT(E, K, c*) -> a plan pi: new frontier point; stop if robot-optimal; K = cost(pi) - 1
                     -> a core:    learned += NOT(E restricted to core ∪ support(pi*))
 
-``support(pi*)`` is the tight support of :func:`mega_sat.engines.support.tight_support`: only the
+``support(pi*)`` is the causal support of :func:`mega_sat.engines.support.causal_support`: only the
 updates whose flip could make ``pi*`` fail or cost more.
 
 Each success is the smallest cost(E) (``|E|``, or the sum of the update costs when they are
@@ -24,7 +24,7 @@ import time
 from mega_sat.deadline import Deadline, TimeLimitReached
 from mega_sat.engines.hitting_set import make_hitting_set
 from mega_sat.engines.progress import Progress, lower_bound_note
-from mega_sat.engines.support import exclusion_clause, tight_support, unsolvable_core
+from mega_sat.engines.support import causal_support, exclusion_clause, unsolvable_core
 from mega_sat.ground.family import GroundFamily
 from mega_sat.model.task import TwoModelTask
 from mega_sat.options import DEFAULT, Options
@@ -37,12 +37,13 @@ from mega_sat.status import Status
 
 def default_planner(engine: str, family: GroundFamily) -> str:
     """``builtin`` for ``astar`` (the paper's per-node planner) and for tasks with zero-cost
-    actions; else ``sat``.  The SAT OPT oracle is the faster one where models get hard, by an
-    order of magnitude on the larger shipped instances (docs/benchmarks.md, "Engine
-    defaults")."""
+    actions; else ``portfolio``: explicit search and the SAT OPT oracle in turns.  Neither
+    wins everywhere (SAT by an order of magnitude on some shipped instances, explicit search
+    by as much on others, bench/README.md), and the race costs at most a small factor over
+    the better one."""
     if engine != "sat" or family.min_cost <= 0:
         return "builtin"
-    return "sat"
+    return "portfolio"
 
 
 def default_joint(family: GroundFamily) -> str:
@@ -128,7 +129,7 @@ def sat_frontier(
     def opt_of(sel):
         nonlocal sat_opt
         r = tiered.optimal(sel)
-        if not r.status.decided and planner != "sat":
+        if not r.status.decided and planner not in ("sat", "portfolio"):
             if sat_opt is None:
                 sat_opt = NodePlanner(
                     task, family, "sat", oracles=orc, deadline=deadline, options=options
@@ -172,6 +173,7 @@ def sat_frontier(
         "joint_searches": 0,
     }
     budget = _Budget(joint_conflict_budget, options)
+    core_budget = _CoreBudget(options)
     _searcher = []
 
     def searcher() -> JointSearcher:
@@ -235,16 +237,18 @@ def sat_frontier(
                     stats["unsolvable_models"] += 1
                     # the core's searches only shrink the exclusion, so they stop at the
                     # deadline: a smaller core is not worth running past the time limit
+                    short: list[int] = []
                     on = unsolvable_core(
                         family,
                         sel,
                         search_seconds=max(
-                            options.unsolvable_core_min_seconds,
-                            options.core_search_factor * opt.time_s,
+                            core_budget.seconds, options.core_search_factor * opt.time_s
                         ),
-                        node_limit=options.unsolvable_core_nodes,
+                        node_limit=core_budget.nodes,
                         deadline=deadline,
+                        cut_short=short,
                     )
+                    core_budget.update(short[0] if short else 0)
                 else:
                     exact = False
                     notes.append(f"OPT undecided for a model with |E|={len(sel)}: {opt.reason}")
@@ -275,7 +279,7 @@ def sat_frontier(
                     )
                 )
                 t_sat = time.perf_counter() - t_sat
-                ts = tight_support(family, sel, opt.plan)
+                ts = causal_support(family, sel, opt.plan)
                 if res is None or not res.status.decided:
                     stats["joint_searches"] += 1
                     t_search = time.perf_counter()
@@ -343,6 +347,7 @@ def sat_frontier(
             "hitting_set": hitting_set,
             "joint": joint,
             "joint_conflict_budget_final": budget.conflicts,
+            "unsolvable_core_nodes_final": core_budget.nodes,
             "hitting_set_calls": hs.calls,
             **orc.stats.as_dict(),
         },
@@ -376,6 +381,39 @@ class _Budget:
             self.conflicts = max(self.low, self.conflicts // 2)
         else:
             self.conflicts = min(self.high, self.conflicts * 2)
+
+
+class _CoreBudget:
+    """The search effort that shrinks each unsolvable model's exclusion clause.
+
+    It starts at ``options.unsolvable_core_nodes`` nodes per trial and
+    ``unsolvable_core_min_seconds`` per core, doubles both after a core where some search ran
+    out of them (a longer one might have dropped the update, and a larger clause rules out
+    fewer models, so the loop meets more of them), up to ``core_budget_growth`` times the
+    start, and halves them after a core whose searches all finished.  The clauses are sound
+    at any budget; only their size changes.
+    """
+
+    def __init__(self, options: Options = DEFAULT):
+        self.base_nodes, self.base_seconds = (
+            options.unsolvable_core_nodes,
+            options.unsolvable_core_min_seconds,
+        )
+        self.factor, self.growth = 1, max(1, options.core_budget_growth)
+
+    @property
+    def nodes(self) -> int:
+        return self.base_nodes * self.factor
+
+    @property
+    def seconds(self) -> float:
+        return self.base_seconds * self.factor
+
+    def update(self, cut_short: int) -> None:
+        if cut_short:
+            self.factor = min(self.growth, self.factor * 2)
+        else:
+            self.factor = max(1, self.factor // 2)
 
 
 def _learn(hs, clause, stats) -> None:

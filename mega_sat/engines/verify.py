@@ -119,15 +119,17 @@ def verify_supersets(
 
 def checker_for(producer: str) -> str:
     """The planner used to re-derive the optimum: never the one that produced the answer.
-    Fast Downward when installed (for built-in or SAT results), else the built-in planner for
-    SAT or Fast Downward results and the SAT OPT oracle for built-in ones."""
+    Fast Downward when installed (for built-in, SAT or portfolio results), else the built-in
+    planner for SAT, portfolio or Fast Downward results and the SAT OPT oracle for built-in
+    ones.  (The portfolio answers by SAT or by uniform-cost search; without Fast Downward its
+    check shares the search code with one of them.)"""
     if producer == "fd":
         return "builtin"
     from mega_sat.planners.fast_downward import fd_available
 
     if fd_available():
         return "fd"
-    return "builtin" if producer == "sat" else "sat"
+    return "builtin" if producer in ("sat", "portfolio") else "sat"
 
 
 def verify_pair(

@@ -7,11 +7,17 @@ too.  Three planners answer the same question (optimal cost and one optimal plan
 * ``builtin`` — explicit-state search on the ground task: uniform-cost, then A* with LM-cut
   (:func:`mega_sat.search.astar.solve_optimal`);
 * ``sat``     — the OPT oracle of the SAT encoding (:mod:`mega_sat.sat.oracles`);
-* ``fd``      — Fast Downward ``astar(lmcut())`` on PDDL files of the model, the paper's set-up.
+* ``fd``      — Fast Downward ``astar(lmcut())`` on PDDL files of the model, the paper's set-up;
+* ``portfolio`` — ``builtin`` and ``sat`` in turns of doubling length, the method that answered
+  the last call first; the first to decide answers.  Both are exact, so the cost is the same
+  whichever answers; the answer's ``planner`` says which did.  Past the SAT horizon cap only
+  the explicit search can decide, and it runs on alone: it is complete (it exhausts the finite
+  state space of an unsolvable model), so every model gets decided, given time.
 """
 
 from __future__ import annotations
 
+import os
 import time
 
 from mega_sat.deadline import NO_DEADLINE, Deadline, TimeLimitReached
@@ -23,7 +29,7 @@ from mega_sat.options import DEFAULT, Options
 from mega_sat.search.astar import PlanResult, within
 from mega_sat.status import Status
 
-PLANNERS = ("builtin", "sat", "fd")
+PLANNERS = ("builtin", "sat", "fd", "portfolio")
 
 
 def sat_solver_names() -> tuple[str, ...]:
@@ -106,6 +112,9 @@ class NodePlanner:
         self._solver = solver
         self.calls = 0
         self.time_s = 0.0
+        # portfolio: the method to try first (the last winner) and its first turn's seconds
+        self._first = "builtin"
+        self._slice = options.race_slice
 
     @property
     def oracles(self):
@@ -155,6 +164,10 @@ class NodePlanner:
         if self.kind == "sat":
             r = self.oracles.opt(sel)
             return answer(r.status, r.plan, r.cost, r.exact, r.reason)
+        if self.kind == "portfolio":
+            if self.options.race_processes and hasattr(os, "fork"):
+                return self._race_forked(sel, task, call, t0)
+            return self._race(sel, task, call, t0)
         from mega_sat.pddl.writer import domain_to_pddl, problem_to_pddl
         from mega_sat.planners.fast_downward import fd_plan
 
@@ -185,6 +198,178 @@ class NodePlanner:
                 )
             return answer(Status.OPTIMAL, plan, r.cost)
         return answer(r.status, reason=r.reason)
+
+    def _race_forked(
+        self, sel: frozenset[int], task: GroundTask, call: Deadline, t0: float
+    ) -> PlanResult:
+        """The portfolio on both cores: uniform-cost search in a forked child process while
+        the SAT OPT oracle runs here.  The oracle polls the child's pipe between solver
+        chunks and stops once the child has answered; a SAT answer ends the child.  Past the
+        horizon cap SAT cannot decide and the search runs on until ``call``."""
+        from mega_sat.sat.oracles import OracleInterrupted
+
+        child = ForkedSearch(task)
+        try:
+            orc = self.oracles
+            orc.solving.stop_probe = child.ready
+            r = None
+            try:
+                r = orc.opt(sel)
+            except OracleInterrupted:
+                if call.expired() or not child.ready():
+                    raise
+            finally:
+                orc.solving.stop_probe = None
+            if r is not None and r.status.decided:
+                self._first = "sat"
+                return PlanResult(
+                    r.status, r.plan, r.cost, r.exact, "sat", time.perf_counter() - t0, r.reason
+                )
+            got = child.result(call.remaining())
+            if got is None:  # the search died (memory) or ran out of time
+                if r is not None:
+                    return PlanResult(r.status, None, None, False, "sat", 0.0, r.reason)
+                if call.expired():
+                    return PlanResult(Status.TIMEOUT, None, None, False, "builtin", 0.0)
+                return self._race(sel, task, call, t0)
+            status, plan, cost = got
+            self._first = "builtin"
+            elapsed = time.perf_counter() - t0
+            return PlanResult(status, plan, cost, True, "builtin", elapsed, "uniform-cost search")
+        finally:
+            child.stop()
+
+    def _race(self, sel: frozenset[int], task: GroundTask, call: Deadline, t0: float) -> PlanResult:
+        """The portfolio: uniform-cost search and the SAT OPT oracle in turns, each round's
+        turns twice as long as the last, until one decides.  The search is paused and resumed,
+        never restarted; SAT OPT restarts, but its solver keeps what it learned.  SAT past its
+        horizon cap cannot decide and drops out; the search then runs on alone until ``call``
+        (it is complete: it exhausts the state space of an unsolvable model).  The method that
+        answered goes first next time, with a first turn of 1.5 times the time it needed (at
+        least ``race_slice``)."""
+        from mega_sat.sat.oracles import OracleInterrupted
+        from mega_sat.search.astar import uniform_cost_steps
+
+        init = sum(1 << p for p in task.init)
+        goal = sum(1 << p for p in task.goal)
+        search = uniform_cost_steps(task, init, goal)
+        methods = [self._first] + [m for m in ("builtin", "sat") if m != self._first]
+        used = dict.fromkeys(methods, 0.0)
+        turn = self._slice
+        why = "time limit"
+        while True:
+            for m in list(methods):
+                alone = len(methods) == 1
+                sub = call if alone else within(call, turn)
+                t1 = time.perf_counter()
+                r = None
+                if m == "builtin":
+                    stop_at = sub.at
+                    try:
+                        while True:
+                            next(search)
+                            if stop_at is not None and time.perf_counter() > stop_at:
+                                break
+                    except StopIteration as done:
+                        status, plan, cost, _ = done.value
+                        r = PlanResult(status, plan, cost, True, m, 0.0, "uniform-cost search")
+                else:
+                    orc = self.oracles
+                    orc.solving.call_deadline = None if alone else sub
+                    try:
+                        r = orc.opt(sel)
+                    except OracleInterrupted:
+                        if call.expired():
+                            raise
+                    finally:
+                        orc.solving.call_deadline = None
+                    if r is not None and not r.status.decided:
+                        methods.remove(m)  # past the horizon cap: only the search decides
+                        why, r = r.reason, None
+                used[m] += time.perf_counter() - t1
+                if r is not None and r.status.decided:
+                    self._first = m
+                    self._slice = max(self.options.race_slice, 1.5 * used[m])
+                    elapsed = time.perf_counter() - t0
+                    return PlanResult(r.status, r.plan, r.cost, r.exact, m, elapsed, r.reason)
+                if call.expired():
+                    return PlanResult(Status.TIMEOUT, None, None, False, m, 0.0, why)
+            turn *= 2
+
+
+class ForkedSearch:
+    """Uniform-cost search of ``task`` in a forked child process; its answer ``(status, plan,
+    cost)`` comes back pickled through a pipe.  The child ignores Ctrl-C (the parent stops
+    it) and leaves by ``os._exit``, so it never flushes the parent's buffered output."""
+
+    def __init__(self, task: GroundTask):
+        import warnings
+
+        self._read, write = os.pipe()
+        with warnings.catch_warnings():
+            # the child runs pure Python and touches no lock another thread may hold
+            warnings.simplefilter("ignore", DeprecationWarning)
+            self.pid = os.fork()
+        if self.pid == 0:  # pragma: no cover - the child; its work is checked through the parent
+            code = 1
+            try:
+                import pickle
+                import signal
+
+                from mega_sat.search.astar import _uniform_cost
+
+                signal.signal(signal.SIGINT, signal.SIG_IGN)
+                os.close(self._read)
+                init = sum(1 << p for p in task.init)
+                goal = sum(1 << p for p in task.goal)
+                status, plan, cost, _ = _uniform_cost(task, init, goal, None, None)
+                data = pickle.dumps((status, plan, cost))
+                view = memoryview(data)
+                while view:
+                    view = view[os.write(write, view) :]
+                code = 0
+            finally:
+                os._exit(code)
+        os.close(write)
+        self._data = b""
+        self._done = False
+
+    def ready(self) -> bool:
+        """Whether the child has answered (or died): reading will not block."""
+        import select
+
+        return self._done or bool(select.select([self._read], [], [], 0)[0])
+
+    def result(self, timeout: float | None):
+        """The child's ``(status, plan, cost)``, waiting up to ``timeout`` seconds (None:
+        without limit); ``None`` if it did not answer."""
+        import pickle
+        import select
+
+        if not self._done:
+            end = None if timeout is None else time.perf_counter() + timeout
+            while True:
+                left = None if end is None else max(0.0, end - time.perf_counter())
+                if not select.select([self._read], [], [], left)[0]:
+                    return None
+                chunk = os.read(self._read, 1 << 16)
+                if not chunk:
+                    break
+                self._data += chunk
+            self._done = True
+        try:
+            return pickle.loads(self._data)
+        except Exception:
+            return None
+
+    def stop(self) -> None:
+        import contextlib
+        import signal
+
+        with contextlib.suppress(ProcessLookupError):
+            os.kill(self.pid, signal.SIGKILL)
+        os.waitpid(self.pid, 0)
+        os.close(self._read)
 
 
 def require_robot_plan(task: TwoModelTask, r: PlanResult) -> None:

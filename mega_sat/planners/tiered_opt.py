@@ -10,8 +10,10 @@ few updates.  Most answers can be proven without a planner call:
    to LM-cut of the initial state; LM-cut is admissible, so no plan is cheaper: *optimal*;
 3. **quick search**: uniform-cost search that finishes within ``Options.quick_nodes``
    expansions (exact: an exhausted space proves unsolvability, the first goal popped is
-   optimal);
-4. **planner**: the configured optimal planner (built-in, SAT or Fast Downward).
+   optimal); the budget halves after each miss (down to 1/64) and doubles after each hit,
+   so on tasks where it never answers it costs little;
+4. **planner**: the configured optimal planner (built-in, SAT, Fast Downward, or the
+   portfolio of built-in and SAT); ``opt_planner_<name>`` counts which one answered.
 
 Every tier is a proof, so the answers are exactly the planner's costs; only which plan is
 returned among equally cheap ones may differ, which the engine's correctness does not depend
@@ -48,6 +50,7 @@ class TieredOpt:
         quick_nodes = (options or planner.options).quick_nodes
         # the built-in planner starts with the same uniform-cost search: no quick tier then
         self.quick_nodes = 0 if planner.kind == "builtin" else quick_nodes
+        self.quick_budget = self.quick_nodes  # halves after each miss, doubles after a hit
         self._plans: list[tuple[PlanStep, ...]] = []
         self._seen: set[tuple[PlanStep, ...]] = set()
         self.stats = {
@@ -86,10 +89,17 @@ class TieredOpt:
         if best is not None and best[0] <= bound:
             return done(Status.OPTIMAL, best[1], best[0], "cached")
         if self.quick_nodes:
-            # no deadline: quick_nodes bounds it, and a proof it finds is kept even at the
+            # no deadline: the node budget bounds it, and a proof it finds is kept even at the
             # deadline (the loop then still reports the robot optimum and a lower bound)
-            r = astar(task, heuristic="blind", node_limit=self.quick_nodes)
+            r = astar(task, heuristic="blind", node_limit=self.quick_budget)
             if r.status.decided:
+                self.quick_budget = min(self.quick_nodes, 2 * self.quick_budget)
                 return done(r.status, r.plan, r.cost, "quick_search")
+            # where it keeps running out, it is mostly overhead: try it smaller next time
+            self.quick_budget = max(self.quick_nodes // 64, self.quick_budget // 2, 1)
         self.stats["opt_by_planner"] += 1
-        return self.planner.optimal(sel)
+        r = self.planner.optimal(sel)
+        if r.status.decided:  # which planner answered (the portfolio's winner)
+            key = f"opt_planner_{r.planner}"
+            self.stats[key] = self.stats.get(key, 0) + 1
+        return r

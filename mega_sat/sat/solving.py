@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import threading
 import time
+from collections.abc import Callable
 
 from pysat.solvers import Solver
 
@@ -75,6 +76,7 @@ class Solving:
         self._interrupted = False
         self._deadline = NO_DEADLINE
         self._call_deadline = NO_DEADLINE
+        self.stop_probe: Callable[[], bool] | None = None  # the portfolio's "search is done"
         self._at: float | None = None  # the earlier of the two, as a perf_counter value
         self._timer: threading.Timer | None = None
         self._native_interrupt = _supports_interrupt(self.joint_solver)
@@ -141,12 +143,15 @@ class Solving:
         return None if self._at is None else self._at - time.perf_counter()
 
     def check(self) -> None:
-        """Raise :class:`OracleInterrupted` after an interrupt or past the deadline."""
+        """Raise :class:`OracleInterrupted` after an interrupt, past the deadline, or once
+        ``stop_probe`` (when set) says another method has answered the question."""
         left = self.time_left()
         late = left is not None and left <= 0
         if self._interrupted or late:
             self._clear_interrupt()
             raise OracleInterrupted("deadline reached" if late else "interrupted")
+        if self.stop_probe is not None and self.stop_probe():
+            raise OracleInterrupted("answered by another method")
 
     # ----------------------------------------------------------------- solving
     def solve(self, solver: Solver, assumptions: list[int], budget: int | None = None):
