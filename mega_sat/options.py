@@ -148,17 +148,31 @@ class Options:
         default=5000,
         metadata={"doc": "nodes of the blind search tried first in the sat engine's OPT"},
     )
-    race_slice: float = field(
-        default=0.05,
+    race_nodes_per_conflict: int = field(
+        default=5,
         metadata={
-            "doc": "seconds of the first turn of each method in the portfolio planner's "
-            "time-sliced race (explicit search, then SAT OPT; turns double until one decides)"
+            "doc": "the OPT portfolio's exchange rate: states the search may expand per "
+            "conflict SAT spends (the referee counts work, not seconds, so runs repeat)"
+        },
+    )
+    race_clauses_per_conflict: int = field(
+        default=50,
+        metadata={
+            "doc": "clauses added to the OPT encoding that count as one conflict of work in "
+            "that exchange (growing the encoding is most of SAT's time on some tasks)"
+        },
+    )
+    race_first_conflicts: int = field(
+        default=1000,
+        metadata={
+            "doc": "conflicts of SAT's first turn when the portfolio takes turns in one "
+            "process (doubling each round)"
         },
     )
     race_processes: bool = field(
         default=True,
         metadata={
-            "doc": "the portfolio planner runs its search in a forked process beside SAT "
+            "doc": "the OPT portfolio runs its search in a forked process beside SAT "
             "(both cores; POSIX only); false: the two take turns in one process"
         },
     )

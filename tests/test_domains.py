@@ -100,7 +100,7 @@ def test_sat_opt_equals_builtin(rel):
     task = _task(rel)
     fam = ground(task)
     sat, builtin = NodePlanner(task, fam, "sat"), NodePlanner(task, fam, "builtin")
-    race = NodePlanner(task, fam, "portfolio", options=Options(race_slice=0.001))
+    race = NodePlanner(task, fam, "portfolio", options=Options(race_first_conflicts=1))
     sels = [frozenset(), task.all_updates, frozenset(range(1, len(task.delta), 2))]
     for sel in sels:
         a, b, c = sat.optimal(sel), builtin.optimal(sel), race.optimal(sel)

@@ -25,7 +25,7 @@ from mega_sat.search.astar import _uniform_cost, uniform_cost_steps
 def test_portfolio_gives_the_optimum(forked: bool, fam: GroundFamily, data):
     if forked and not hasattr(os, "fork"):
         pytest.skip("no fork here")
-    opts = Options(race_processes=forked, race_slice=0.0005)
+    opts = Options(race_processes=forked, race_first_conflicts=1)
     planner = NodePlanner(None, fam, "portfolio", options=opts)
     for _ in range(3):
         sel = data.draw(selections(fam.n_updates))
@@ -75,10 +75,34 @@ def test_forked_search_answers_and_stops():
     child = ForkedSearch(task)
     try:
         status, plan, cost = child.result(30.0)
-        assert child.ready()
+        done, expanded = child.progress(1 << 40, Deadline.after(30.0))
     finally:
         child.stop()
     assert status == "optimal" and cost == dijkstra(task) and plan_cost(task, plan) == cost
+    assert done and expanded == _uniform_cost(task, *_ends(task), None, None)[3]
+
+
+def _ends(task):
+    return sum(1 << p for p in task.init), sum(1 << p for p in task.goal)
+
+
+def test_the_portfolio_answers_alike_run_after_run():
+    """The referee counts work, not seconds: the same calls give the same plans and the same
+    winners, whatever the machine's load."""
+    from mega_sat import api
+    from mega_sat.pddl.loading import resolve_task_dir
+
+    root = os.path.join(os.path.dirname(__file__), "..", "domains", "rover-martian", "delta")
+    task = api.load_task(**resolve_task_dir(os.path.join(root, "10", "p3")))
+    from mega_sat.ground.grounding import ground
+
+    fam = ground(task)
+    sels = [frozenset(range(0, len(task.delta), k)) for k in (1, 2, 3, 5)]
+    runs = []
+    for _ in range(2):
+        planner = NodePlanner(task, fam, "portfolio")
+        runs.append([(r.planner, r.cost, r.plan) for r in map(planner.optimal, sels)])
+    assert runs[0] == runs[1]
 
 
 def test_portfolio_past_its_deadline_says_timeout_not_an_answer():

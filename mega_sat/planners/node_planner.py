@@ -8,9 +8,9 @@ too.  Three planners answer the same question (optimal cost and one optimal plan
   (:func:`mega_sat.search.astar.solve_optimal`);
 * ``sat``     — the OPT oracle of the SAT encoding (:mod:`mega_sat.sat.oracles`);
 * ``fd``      — Fast Downward ``astar(lmcut())`` on PDDL files of the model, the paper's set-up;
-* ``portfolio`` — ``builtin`` and ``sat`` in turns of doubling length, the method that answered
-  the last call first; the first to decide answers.  Both are exact, so the cost is the same
-  whichever answers; the answer's ``planner`` says which did.  Past the SAT horizon cap only
+* ``portfolio`` — ``builtin``'s uniform-cost search (in a forked process) and ``sat`` at once,
+  refereed by work (states expanded against solver conflicts), so every run gives the same
+  answer; the answer's ``planner`` says which method gave it.  Past the SAT horizon cap only
   the explicit search can decide, and it runs on alone: it is complete (it exhausts the finite
   state space of an unsolvable model), so every model gets decided, given time.
 """
@@ -114,7 +114,6 @@ class NodePlanner:
         self.time_s = 0.0
         # portfolio: the method to try first (the last winner) and its first turn's seconds
         self._first = "builtin"
-        self._slice = options.race_slice
 
     @property
     def oracles(self):
@@ -202,35 +201,57 @@ class NodePlanner:
     def _race_forked(
         self, sel: frozenset[int], task: GroundTask, call: Deadline, t0: float
     ) -> PlanResult:
-        """The portfolio on both cores: uniform-cost search in a forked child process while
-        the SAT OPT oracle runs here.  The oracle polls the child's pipe between solver
-        chunks and stops once the child has answered; a SAT answer ends the child.  Past the
-        horizon cap SAT cannot decide and the search runs on until ``call``."""
+        """The portfolio on both cores: uniform-cost search in a forked child while the SAT
+        OPT oracle runs here, refereed by work, not by the clock, so that every run gives
+        the same answer (and the same plan).
+
+        Work is the child's expanded states and the oracle's solver conflicts plus the
+        clauses its encoding grew by (``race_clauses_per_conflict`` clauses count as one
+        conflict), converted at ``race_nodes_per_conflict``.  The search wins when it ends
+        with fewer states than that many times the work SAT has spent (checked between
+        solver chunks, whose schedule is fixed); SAT wins when it ends first by that
+        measure.  Where one side is
+        ahead in work and behind on the clock, the referee waits for the other to catch up,
+        which costs wall time, never the answer.  Past the horizon cap SAT drops out and the
+        search runs on until ``call``."""
         from mega_sat.sat.oracles import OracleInterrupted
 
+        opts = self.options
+        rate, per_clause = opts.race_nodes_per_conflict, 1 / opts.race_clauses_per_conflict
+        orc = self.oracles
+        solving, enc = orc.solving, orc.opt_enc
+        start, clauses = solving.conflicts(), enc.n_clauses
+        if start is None:  # a solver that does not count conflicts: no referee possible
+            return self._race(sel, task, call, t0)
         child = ForkedSearch(task)
+
+        def search_wins() -> bool:
+            spent = solving.conflicts() - start + (enc.n_clauses - clauses) * per_clause
+            limit = rate * spent
+            done, n = child.progress(limit, call)
+            return done and n < limit
+
         try:
-            orc = self.oracles
-            orc.solving.stop_probe = child.ready
+            solving.stop_probe = search_wins
             r = None
             try:
                 r = orc.opt(sel)
             except OracleInterrupted:
-                if call.expired() or not child.ready():
+                if call.expired():
                     raise
             finally:
-                orc.solving.stop_probe = None
-            if r is not None and r.status.decided:
+                solving.stop_probe = None
+            if r is not None and r.status.decided and not search_wins():
                 self._first = "sat"
                 return PlanResult(
                     r.status, r.plan, r.cost, r.exact, "sat", time.perf_counter() - t0, r.reason
                 )
             got = child.result(call.remaining())
             if got is None:  # the search died (memory) or ran out of time
-                if r is not None:
-                    return PlanResult(r.status, None, None, False, "sat", 0.0, r.reason)
                 if call.expired():
                     return PlanResult(Status.TIMEOUT, None, None, False, "builtin", 0.0)
+                if r is not None:
+                    return PlanResult(r.status, None, None, False, "sat", 0.0, r.reason)
                 return self._race(sel, task, call, t0)
             status, plan, cost = got
             self._first = "builtin"
@@ -240,13 +261,12 @@ class NodePlanner:
             child.stop()
 
     def _race(self, sel: frozenset[int], task: GroundTask, call: Deadline, t0: float) -> PlanResult:
-        """The portfolio: uniform-cost search and the SAT OPT oracle in turns, each round's
-        turns twice as long as the last, until one decides.  The search is paused and resumed,
-        never restarted; SAT OPT restarts, but its solver keeps what it learned.  SAT past its
-        horizon cap cannot decide and drops out; the search then runs on alone until ``call``
-        (it is complete: it exhausts the state space of an unsolvable model).  The method that
-        answered goes first next time, with a first turn of 1.5 times the time it needed (at
-        least ``race_slice``)."""
+        """The portfolio in one process: uniform-cost search and the SAT OPT oracle in turns
+        of fixed work, doubling each round (search: ``race_nodes_per_conflict`` states per
+        conflict of the SAT turn), until one decides.  The search is paused and resumed;
+        SAT OPT restarts, its solver keeping what it learned.  SAT past its horizon cap drops
+        out and the search runs on until ``call``.  The method that answered the last call
+        goes first.  Turns are counted in work, not seconds, so every run answers alike."""
         from mega_sat.sat.oracles import OracleInterrupted
         from mega_sat.search.astar import uniform_cost_steps
 
@@ -254,57 +274,61 @@ class NodePlanner:
         goal = sum(1 << p for p in task.goal)
         search = uniform_cost_steps(task, init, goal)
         methods = [self._first] + [m for m in ("builtin", "sat") if m != self._first]
-        used = dict.fromkeys(methods, 0.0)
-        turn = self._slice
+        conflicts = self.options.race_first_conflicts
         why = "time limit"
         while True:
             for m in list(methods):
                 alone = len(methods) == 1
-                sub = call if alone else within(call, turn)
-                t1 = time.perf_counter()
                 r = None
                 if m == "builtin":
-                    stop_at = sub.at
+                    nodes = None if alone else self.options.race_nodes_per_conflict * conflicts
                     try:
                         while True:
-                            next(search)
-                            if stop_at is not None and time.perf_counter() > stop_at:
+                            n = next(search)
+                            if (nodes is not None and n >= nodes) or call.expired():
                                 break
                     except StopIteration as done:
                         status, plan, cost, _ = done.value
                         r = PlanResult(status, plan, cost, True, m, 0.0, "uniform-cost search")
                 else:
-                    orc = self.oracles
-                    orc.solving.call_deadline = None if alone else sub
+                    solving = self.oracles.solving
+                    solving.stop_probe = None if alone else _spent(solving, conflicts)
                     try:
-                        r = orc.opt(sel)
+                        r = self.oracles.opt(sel)
                     except OracleInterrupted:
                         if call.expired():
                             raise
                     finally:
-                        orc.solving.call_deadline = None
+                        solving.stop_probe = None
                     if r is not None and not r.status.decided:
                         methods.remove(m)  # past the horizon cap: only the search decides
                         why, r = r.reason, None
-                used[m] += time.perf_counter() - t1
                 if r is not None and r.status.decided:
                     self._first = m
-                    self._slice = max(self.options.race_slice, 1.5 * used[m])
                     elapsed = time.perf_counter() - t0
                     return PlanResult(r.status, r.plan, r.cost, r.exact, m, elapsed, r.reason)
                 if call.expired():
                     return PlanResult(Status.TIMEOUT, None, None, False, m, 0.0, why)
-            turn *= 2
+            conflicts *= 2
+
+
+def _spent(solving, allowed: int):
+    """A stop probe: true once the solvers have spent ``allowed`` conflicts from now."""
+    start = solving.conflicts() or 0
+    return lambda: (solving.conflicts() or 0) - start >= allowed
 
 
 class ForkedSearch:
-    """Uniform-cost search of ``task`` in a forked child process; its answer ``(status, plan,
+    """Uniform-cost search of ``task`` in a forked child process.  Its progress (states
+    expanded; negative once done) is one shared 8-byte counter, its answer ``(status, plan,
     cost)`` comes back pickled through a pipe.  The child ignores Ctrl-C (the parent stops
     it) and leaves by ``os._exit``, so it never flushes the parent's buffered output."""
 
     def __init__(self, task: GroundTask):
+        import mmap
         import warnings
 
+        self._counter = mmap.mmap(-1, 8)  # shared with the child (MAP_SHARED)
         self._read, write = os.pipe()
         with warnings.catch_warnings():
             # the child runs pure Python and touches no lock another thread may hold
@@ -315,18 +339,24 @@ class ForkedSearch:
             try:
                 import pickle
                 import signal
+                import struct
 
-                from mega_sat.search.astar import _uniform_cost
+                from mega_sat.search.astar import uniform_cost_steps
 
                 signal.signal(signal.SIGINT, signal.SIG_IGN)
                 os.close(self._read)
                 init = sum(1 << p for p in task.init)
                 goal = sum(1 << p for p in task.goal)
-                status, plan, cost, _ = _uniform_cost(task, init, goal, None, None)
-                data = pickle.dumps((status, plan, cost))
-                view = memoryview(data)
+                steps = uniform_cost_steps(task, init, goal)
+                try:
+                    while True:
+                        struct.pack_into("<q", self._counter, 0, next(steps))
+                except StopIteration as done:
+                    status, plan, cost, expanded = done.value
+                view = memoryview(pickle.dumps((status, plan, cost)))
                 while view:
                     view = view[os.write(write, view) :]
+                struct.pack_into("<q", self._counter, 0, -expanded - 1)
                 code = 0
             finally:
                 os._exit(code)
@@ -334,11 +364,22 @@ class ForkedSearch:
         self._data = b""
         self._done = False
 
-    def ready(self) -> bool:
-        """Whether the child has answered (or died): reading will not block."""
-        import select
+    def progress(self, at_least: float, deadline: Deadline) -> tuple[bool, int]:
+        """``(done, expanded)`` once the child is done or has expanded ``at_least`` states
+        (waiting for it, until ``deadline``); a dead child counts as done."""
+        import struct
 
-        return self._done or bool(select.select([self._read], [], [], 0)[0])
+        while True:
+            (v,) = struct.unpack_from("<q", self._counter, 0)
+            if v < 0:
+                return True, -v - 1
+            if v >= at_least or deadline.expired():
+                return False, v
+            pid, _ = os.waitpid(self.pid, os.WNOHANG)
+            if pid:  # died without answering: it will never catch up
+                self.pid = 0
+                return True, 1 << 62
+            time.sleep(0.0005)
 
     def result(self, timeout: float | None):
         """The child's ``(status, plan, cost)``, waiting up to ``timeout`` seconds (None:
@@ -366,10 +407,13 @@ class ForkedSearch:
         import contextlib
         import signal
 
-        with contextlib.suppress(ProcessLookupError):
-            os.kill(self.pid, signal.SIGKILL)
-        os.waitpid(self.pid, 0)
+        if self.pid:
+            with contextlib.suppress(ProcessLookupError):
+                os.kill(self.pid, signal.SIGKILL)
+            with contextlib.suppress(ChildProcessError):
+                os.waitpid(self.pid, 0)
         os.close(self._read)
+        self._counter.close()
 
 
 def require_robot_plan(task: TwoModelTask, r: PlanResult) -> None:
