@@ -48,10 +48,9 @@ def state_key_mask(n_facts: int) -> int | None:
     return None if n_facts <= 60 else (1 << (n_facts + 64)) - 1
 
 
-def state_keys(n_facts: int):
-    """The map of :func:`state_key_mask` as a function (``None``: states are their keys)."""
-    mask = state_key_mask(n_facts)
-    return None if mask is None else (lambda s: (s * _MIX) & mask)
+def _key(s: int, mask: int | None) -> int:
+    """The dictionary key of state ``s`` under :func:`state_key_mask`'s ``mask``."""
+    return s if mask is None else (s * _MIX) & mask
 
 
 _CHECK_EVERY = 32
@@ -154,8 +153,8 @@ def astar(
         return result(status, plan, cost)
     groups = _successor_groups(task)
     actions = task.actions
-    key, mask = state_keys(len(task.atoms)), state_key_mask(len(task.atoms))
-    k0 = init if key is None else key(init)
+    mask = state_key_mask(len(task.atoms))
+    k0 = _key(init, mask)
     best_g: dict[int, int] = {k0: 0}
     parent: dict[int, tuple[int, int] | None] = {k0: None}
     h_cache: dict[int, float] = {k0: h0}
@@ -166,7 +165,7 @@ def astar(
         if g > best_g[k]:
             continue
         if s & goal == goal:
-            return result(Status.OPTIMAL, _trace(parent, actions, s, key), g)
+            return result(Status.OPTIMAL, _trace(parent, actions, s, mask), g)
         if node_limit is not None and expanded >= node_limit:
             return result(Status.LIMIT)
         if stop_at is not None and expanded % _CHECK_EVERY == 0 and time.perf_counter() > stop_at:
@@ -197,12 +196,12 @@ def astar(
 
 
 def _trace(
-    parent: dict[int, tuple[int, int] | None], actions: tuple, s: int, key=None
+    parent: dict[int, tuple[int, int] | None], actions: tuple, s: int, mask: int | None = None
 ) -> tuple[PlanStep, ...]:
     """The plan that reached state ``s``, read back along ``parent`` (state, action index;
-    keyed by ``key(state)`` when given, see :func:`state_keys`)."""
+    keyed by :func:`_key` under ``mask``, see :func:`state_key_mask`)."""
     steps = []
-    while (link := parent[s if key is None else key(s)]) is not None:
+    while (link := parent[_key(s, mask)]) is not None:
         s, j = link
         steps.append(actions[j].step)
     return tuple(reversed(steps))
@@ -236,9 +235,9 @@ def uniform_cost_steps(task: GroundTask, init: int, goal: int, node_limit: int |
     expanded)``.  The portfolio planner runs it in time slices without starting over."""
     groups = _successor_groups(task)
     actions = task.actions
-    key, mask = state_keys(len(task.atoms)), state_key_mask(len(task.atoms))
-    best_g: dict[int, int] = {init if key is None else key(init): 0}
-    parent: dict[int, tuple[int, int] | None] = {init if key is None else key(init): None}
+    mask = state_key_mask(len(task.atoms))
+    best_g: dict[int, int] = {_key(init, mask): 0}
+    parent: dict[int, tuple[int, int] | None] = {_key(init, mask): None}
     buckets: dict[int, list[int]] = {0: [init]}
     pending = [0]  # the g values with a list, as a heap
     expanded = 0
@@ -252,7 +251,7 @@ def uniform_cost_steps(task: GroundTask, init: int, goal: int, node_limit: int |
             if best_g[s if mask is None else (s * _MIX) & mask] != g:
                 continue
             if s & goal == goal:
-                return Status.OPTIMAL, _trace(parent, actions, s, key), g, expanded
+                return Status.OPTIMAL, _trace(parent, actions, s, mask), g, expanded
             if node_limit is not None and expanded >= node_limit:
                 return Status.LIMIT, None, None, expanded
             if expanded % _CHECK_EVERY == 0:
