@@ -162,6 +162,21 @@ class Options:
             "that exchange (growing the encoding is most of SAT's time on some tasks)"
         },
     )
+    race_lmcut_per_action: float = field(
+        default=0.5,
+        metadata={
+            "doc": "the work of one LM-cut evaluation in the portfolio's explicit side, in "
+            "uniform-cost expansions per action of the task (it takes turns with uniform-cost "
+            "search by work)"
+        },
+    )
+    race_states_per_lp_action: int = field(
+        default=20,
+        metadata={
+            "doc": "the work of one operator-counting integer program on SAT's side of that "
+            "exchange, in search states per action of the program"
+        },
+    )
     race_first_conflicts: int = field(
         default=1000,
         metadata={
@@ -174,6 +189,20 @@ class Options:
         metadata={
             "doc": "the OPT portfolio runs its search in a forked process beside SAT "
             "(both cores; POSIX only); false: the two take turns in one process"
+        },
+    )
+    joint_before_opt: bool = field(
+        default=True,
+        metadata={
+            "doc": "the sat engine asks JOINT at the cost of a remembered plan that runs in "
+            "the candidate model before proving its optimum; a core there needs no OPT"
+        },
+    )
+    joint_before_opt_conflicts: int = field(
+        default=2000,
+        metadata={
+            "doc": "conflicts per SAT call of that early JOINT; past them the candidate gets "
+            "OPT and JOINT at the proven optimum as usual"
         },
     )
     blind_nodes: int = field(

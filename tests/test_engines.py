@@ -23,6 +23,7 @@ from mega_sat.engines.sat_loop import sat_frontier
 from mega_sat.engines.verify import verify_pair
 from mega_sat.errors import UnsolvableError
 from mega_sat.ground.grounding import ground
+from mega_sat.options import Options
 from mega_sat.results import choose
 from mega_sat.sat.oracles import SatOracles
 
@@ -58,8 +59,9 @@ def _pairs(points):
     st.sampled_from(["rc2", "ilp"]),
     st.sampled_from(["sat", "search", "portfolio"]),
     st.sampled_from([None, "builtin", "sat"]),
+    st.booleans(),
 )
-def test_sat_frontier_equals_brute_force(task, hs, joint, planner):
+def test_sat_frontier_equals_brute_force(task, hs, joint, planner, joint_first):
     got = _solvable(task)
     if got is None:
         with pytest.raises(UnsolvableError):
@@ -70,7 +72,13 @@ def test_sat_frontier_equals_brute_force(task, hs, joint, planner):
     # the SAT oracle gave up (exercises the hand-over)
     budget = 0 if joint == "portfolio" else 20_000
     fr = sat_frontier(
-        task, fam, planner=planner, hitting_set=hs, joint=joint, joint_conflict_budget=budget
+        task,
+        fam,
+        planner=planner,
+        hitting_set=hs,
+        joint=joint,
+        joint_conflict_budget=budget,
+        options=Options(joint_before_opt=joint_first),
     )
     assert fr.robot_optimal_cost == c_r
     assert _pairs(fr.points) == _pairs(pts)
@@ -93,6 +101,26 @@ def test_sat_frontier_equals_brute_force(task, hs, joint, planner):
             use_val=False,
         )
         assert rep.ok, rep.lines()
+
+
+def test_joint_before_opt_decides_candidates_without_opt_and_keeps_the_frontier():
+    """usar-fetch Δ10 p1: JOINT at a remembered plan's cost rules out candidates that then
+    need no OPT call; the frontier is the one the loop finds with OPT first."""
+    from pathlib import Path
+
+    from mega_sat.pddl.loading import load_task_dir
+
+    task = load_task_dir(Path(__file__).parent.parent / "domains/usar-fetch/delta/10/p1")
+    fam = ground(task)
+    runs = {
+        first: sat_frontier(task, fam, options=Options(joint_before_opt=first))
+        for first in (True, False)
+    }
+    assert _pairs(runs[True].points) == _pairs(runs[False].points) == [(3, 7), (4, 5), (6, 4)]
+    assert runs[True].exact and runs[False].exact
+    assert runs[True].stats["joint_before_opt_cores"] > 0
+    assert runs[False].stats["joint_before_opt_cores"] == 0
+    assert runs[True].stats["opt_calls"] < runs[False].stats["opt_calls"]
 
 
 @SETTINGS

@@ -14,9 +14,15 @@ from hypothesis import strategies as st
 from mega_sat.deadline import Deadline
 from mega_sat.ground.family import GroundFamily
 from mega_sat.options import Options
-from mega_sat.planners.node_planner import ForkedSearch, NodePlanner
+from mega_sat.planners.node_planner import ForkedSearch, NodePlanner, explicit_steps
 from mega_sat.planners.tiered_opt import TieredOpt
-from mega_sat.search.astar import _uniform_cost, uniform_cost_steps
+from mega_sat.search.astar import (
+    _uniform_cost,
+    astar,
+    astar_steps,
+    blind_and_lmcut_steps,
+    uniform_cost_steps,
+)
 
 
 @pytest.mark.parametrize("forked", [True, False])
@@ -72,14 +78,81 @@ def test_forked_search_answers_and_stops():
 
     fam = ground(usar_like())
     task = fam.specialize(frozenset())
-    child = ForkedSearch(task)
+    child = ForkedSearch(task, 7.0)
     try:
-        status, plan, cost = child.result(30.0)
-        done, expanded = child.progress(1 << 40, Deadline.after(30.0))
+        status, plan, cost, method = child.result(30.0)
+        done, work = child.progress(1 << 40, Deadline.after(30.0))
     finally:
         child.stop()
     assert status == "optimal" and cost == dijkstra(task) and plan_cost(task, plan) == cost
-    assert done and expanded == _uniform_cost(task, *_ends(task), None, None)[3]
+    steps = explicit_steps(task, 7.0)
+    try:
+        while True:
+            next(steps)
+    except StopIteration as end:
+        here = end.value
+    assert done and (work, method) == (int(here[3]), here[4])
+
+
+@settings(max_examples=40, deadline=None)
+@given(fam=families(), data=st.data())
+def test_paused_astar_answers_like_astar(fam: GroundFamily, data):
+    task = fam.specialize(data.draw(selections(fam.n_updates)))
+    h = data.draw(st.sampled_from(["lmcut", "hmax"]))
+    steps = astar_steps(task, *_ends(task), h, every=1)
+    try:
+        while True:
+            next(steps)
+    except StopIteration as done:
+        status, plan, cost, expanded, _ = done.value
+    r = astar(task, heuristic=h)
+    assert (status, plan, cost, expanded) == (r.status, r.plan, r.cost, r.expanded)
+
+
+@settings(max_examples=60, deadline=None)
+@given(fam=families(), data=st.data())
+def test_blind_and_lmcut_by_turns_give_the_optimum(fam: GroundFamily, data):
+    """Whichever of the two searches ends first, its answer is the optimum (or a proof that
+    there is no plan); the turns follow work alone, so a second run ends the same way."""
+    task = fam.specialize(data.draw(selections(fam.n_updates)))
+    weight = data.draw(st.sampled_from([0.01, 1.0, 5.0, 1000.0]))
+    ends = []
+    for _ in range(2):
+        steps = blind_and_lmcut_steps(task, *_ends(task), weight)
+        try:
+            while True:
+                next(steps)
+        except StopIteration as done:
+            ends.append(done.value)
+    status, plan, cost, _, method = ends[0]
+    assert ends[0] == ends[1]
+    assert method in ("uniform-cost search", "A* with LM-cut")
+    c = dijkstra(task)
+    if c is None:
+        assert status == "unsolvable"
+    else:
+        assert status == "optimal" and cost == c and plan_cost(task, plan) == c
+
+
+def test_lmcut_answers_where_blind_search_is_hopeless():
+    """A chain of 14 switches, each free to toggle, and a goal at the far end: blind search
+    meets 2^14 states, A* with LM-cut walks straight to the goal."""
+    from mega_sat.ground.family import GroundTask, StripsAction
+
+    n, f = 14, frozenset
+    atoms = tuple(("at", str(i)) for i in range(n + 1)) + tuple(("on", str(i)) for i in range(n))
+    acts = [StripsAction(i, "go", (str(i),), f({i}), f(), f({i + 1}), f({i}), 5) for i in range(n)]
+    acts += [
+        StripsAction(n + i, "flip", (str(i),), f(), f(), f({n + 1 + i}), f(), 1) for i in range(n)
+    ]
+    task = GroundTask(atoms, tuple(acts), f({0}), f({n}))
+    steps = blind_and_lmcut_steps(task, *_ends(task), 5.0)
+    try:
+        while True:
+            next(steps)
+    except StopIteration as done:
+        status, plan, cost, _, method = done.value
+    assert (status, cost, method) == ("optimal", 5 * n, "A* with LM-cut")
 
 
 def _ends(task):

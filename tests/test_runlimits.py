@@ -26,8 +26,8 @@ from mega_sat.errors import EXIT_CODES, UsageError
 
 ROOT = Path(__file__).resolve().parent.parent
 USAR = ROOT / "domains" / "usar-fetch" / "p1"
-LONG_FRONTIER = ROOT / "domains" / "rover-martian" / "delta" / "30" / "p1"
-"""A frontier that takes several seconds and finds its first point within about one."""
+LONG_FRONTIER = ROOT / "domains" / "usar-fetch" / "delta" / "30" / "p1"
+"""A frontier that takes over a minute and finds its first point within about a second."""
 
 PROGRAM = [
     sys.executable,
@@ -349,7 +349,7 @@ def test_large_grounding_stops_within_the_slack(big_grounding):
 @pytest.mark.parametrize("sig, code", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
 def test_interrupt_prints_the_partial_frontier(sig, code):
     proc = _spawn(["frontier", "--task", LONG_FRONTIER, "--json"])
-    time.sleep(1.5)
+    time.sleep(3.0)
     assert proc.poll() is None, "the frontier ended before the signal"
     proc.send_signal(sig)
     exit_code, out, err = _finish(proc)

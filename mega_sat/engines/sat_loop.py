@@ -4,6 +4,8 @@ Loop (encodings/hitting-set.md), from the explicable end toward the robot-optima
 
     K = inf; learned = []
     E = cheapest selection satisfying learned          (hitting set: RC2 or CBC)
+    JOINT(E, K, U) at the cost U of a known plan pi_U of human + E, if any:
+                    -> a core: learned += NOT(E restricted to core ∪ support(pi_U)); next E
     c*, pi* = OPT(E)                                    (optimal human cost of human + E)
     JOINT(E, K, c*) -> a plan pi: new frontier point; stop if robot-optimal; K = cost(pi) - 1
                     -> a core:    learned += NOT(E restricted to core ∪ support(pi*))
@@ -29,8 +31,9 @@ from mega_sat.ground.family import GroundFamily
 from mega_sat.model.task import TwoModelTask
 from mega_sat.options import DEFAULT, Options
 from mega_sat.pddl.update_costs import explanation_cost
-from mega_sat.planners.tiered_opt import TieredOpt
+from mega_sat.planners.tiered_opt import Bounds, TieredOpt
 from mega_sat.results import Frontier, FrontierPoint, pareto_filter
+from mega_sat.search.answers import JointResult
 from mega_sat.search.joint import JointSearcher, search_joint
 from mega_sat.status import Status
 
@@ -126,9 +129,9 @@ def sat_frontier(
     exact = True
     sat_opt = None  # the SAT OPT oracle, for the models the explicit planners leave undecided
 
-    def opt_of(sel):
+    def opt_of(sel, searched_only: bool = False):
         nonlocal sat_opt
-        r = tiered.optimal(sel)
+        r = tiered.optimal(sel, searched_only=searched_only)
         if not r.status.decided and planner not in ("sat", "portfolio"):
             if sat_opt is None:
                 sat_opt = NodePlanner(
@@ -171,6 +174,8 @@ def sat_frontier(
         "learned_literals": 0,
         "unsolvable_models": 0,
         "joint_searches": 0,
+        "joint_before_opt_cores": 0,
+        "joint_before_opt_plans": 0,
     }
     budget = _Budget(joint_conflict_budget, options)
     core_budget = _CoreBudget(options)
@@ -198,6 +203,44 @@ def sat_frontier(
                 + lower_bound_note(lower_bound, bool(points), weighted)
             )
 
+    first_joint = options.joint_before_opt and joint != "search"
+    joint_seconds = [0.0]  # the last JOINT call's SAT time, for the portfolio's budget
+
+    def joint_of(sel, human_bound, plan, human_lower_bound, cap=None) -> JointResult | None:
+        """JOINT(sel, K, human_bound) by the SAT oracle (None for ``--joint search``), with
+        ``plan`` (a plan of ``human + sel`` within ``human_bound``) as a hint."""
+        if joint == "search":
+            return None
+        caps = [
+            c for c in (budget.conflicts if joint == "portfolio" else None, cap) if c is not None
+        ]
+        t_sat = time.perf_counter()
+        res = orc.joint(
+            sel,
+            bound,
+            human_bound,
+            hints=(plan,),
+            robot_lower_bound=robot_lb,
+            human_lower_bound=human_lower_bound,
+            conflict_budget=min(caps) if caps else None,
+        )
+        joint_seconds[0] = time.perf_counter() - t_sat
+        stats["joint_calls"] += 1
+        return res
+
+    def learn_core(sel, res, plan) -> None:
+        """Learn NOT(sel on core ∪ causal support of ``plan``), ``plan`` a plan of
+        ``human + sel`` whose cost was JOINT's human bound (encodings/hitting-set.md)."""
+        nonlocal exact
+        if not res.exact:
+            exact = False
+            notes.append(f"JOINT not exact (|E|={len(sel)}): {res.reason}")
+        if res.core is None:  # a search that records no core: exclude sel alone
+            _learn(hs, exclusion_clause(sel, range(len(task.delta))), stats)
+            return
+        on = {i for i, _ in res.core} | {i for i, _ in causal_support(family, sel, plan)}
+        _learn(hs, exclusion_clause(sel, on), stats)
+
     progress.stats = stats
     try:
         while True:
@@ -219,18 +262,47 @@ def sat_frontier(
             progress.lower_bound = cost_of(sel)
             progress.step(len(sel))
             stats["iterations"] += 1
-            opt = opt_cache.get(sel)
-            if opt is None:
-                try:
+            try:
+                opt = opt_cache.get(sel)
+                early = None  # JOINT's answer before OPT, when it needs no OPT
+                pending = None  # a joint plan at a known plan's cost; needs c* = that cost
+                if opt is None and first_joint:
+                    known = tiered.bounds(sel)
+                    if not isinstance(known, Bounds):
+                        opt = known
+                    else:
+                        if known.plan is not None:
+                            r = joint_of(
+                                sel,
+                                known.upper,
+                                known.plan,
+                                known.lower,
+                                cap=options.joint_before_opt_conflicts,
+                            )
+                            if r is not None and r.status.decided and r.plan is None:
+                                # no joint plan within a known plan's cost: no OPT needed
+                                stats["joint_before_opt_cores"] += 1
+                                learn_core(sel, r, known.plan)
+                                continue
+                            if r is not None and r.status.decided:
+                                if r.human_cost <= known.lower:  # c* proven by LM-cut
+                                    stats["joint_before_opt_plans"] += 1
+                                    early = r
+                                else:
+                                    pending = (r, known.upper)
+                        if early is None:
+                            opt = opt_of(sel, searched_only=True)
+                elif opt is None:
                     opt = opt_of(sel)
-                except (OracleInterrupted, TimeLimitReached) as e:
-                    if getattr(e, "forced", False):
-                        raise  # stopped between any two bytecodes: the caller reports progress
-                    time_out()
-                    break
-                opt_cache[sel] = opt
-                stats["opt_calls"] += 1
-            if opt.status != Status.OPTIMAL:
+                if opt is not None and sel not in opt_cache:
+                    opt_cache[sel] = opt
+                    stats["opt_calls"] += 1
+            except (OracleInterrupted, TimeLimitReached) as e:
+                if getattr(e, "forced", False):
+                    raise  # stopped between any two bytecodes: the caller reports progress
+                time_out()
+                break
+            if opt is not None and opt.status != Status.OPTIMAL:
                 # no plan (or none found): no solution can use this model; exclude it
                 on = None
                 if opt.status == Status.UNSOLVABLE:
@@ -258,31 +330,24 @@ def sat_frontier(
                     stats,
                 )
                 continue
-            if not opt.exact:
+            if opt is not None and not opt.exact:
                 exact = False
                 notes.append(f"OPT not proven optimal (|E|={len(sel)}): {opt.reason}")
+            if pending is not None and opt.cost == pending[1]:
+                # the joint plan's human cost is <= the known plan's, which OPT proved optimal
+                stats["joint_before_opt_plans"] += 1
+                early = pending[0]
             try:
-                # pi* is a witness if the robot can run it within K; c_robot and (when costs
-                # allow) c* are proven lower bounds that spare the final UNSAT call
-                t_sat = time.perf_counter()
-                res = (
-                    None
-                    if joint == "search"
-                    else orc.joint(
-                        sel,
-                        bound,
-                        opt.cost,
-                        hints=(opt.plan,),
-                        robot_lower_bound=robot_lb,
-                        human_lower_bound=opt.cost if opt.exact else None,
-                        conflict_budget=budget.conflicts if joint == "portfolio" else None,
-                    )
-                )
-                t_sat = time.perf_counter() - t_sat
-                ts = causal_support(family, sel, opt.plan)
+                res = early
+                if res is None:
+                    # pi* is a witness if the robot can run it within K; c_robot and (when
+                    # costs allow) c* are proven lower bounds that spare the final UNSAT call
+                    res = joint_of(sel, opt.cost, opt.plan, opt.cost if opt.exact else None)
                 if res is None or not res.status.decided:
                     stats["joint_searches"] += 1
+                    stats["joint_calls"] += res is None  # else counted with its SAT attempt
                     t_search = time.perf_counter()
+                    ts = causal_support(family, sel, opt.plan)
                     res = search_joint(
                         searcher(),
                         family,
@@ -294,35 +359,34 @@ def sat_frontier(
                     )
                     if res is None:
                         raise OracleInterrupted
-                    budget.update(t_sat, time.perf_counter() - t_search)
+                    budget.update(joint_seconds[0], time.perf_counter() - t_search)
             except (OracleInterrupted, TimeLimitReached) as e:
                 if getattr(e, "forced", False):
                     raise
                 time_out()
                 break
-            stats["joint_calls"] += 1
+            if res.plan is None:
+                learn_core(sel, res, opt.plan)
+                continue
             if not res.exact:
                 exact = False
                 notes.append(f"JOINT not exact (|E|={len(sel)}): {res.reason}")
-            if res.plan is not None:
-                points.append(
-                    FrontierPoint(
-                        tuple(task.names(sel)),
-                        sel,
-                        tuple(res.plan),
-                        res.robot_cost,
-                        res.human_cost,
-                        cost_of(sel) if weighted else None,
-                    )
+            tiered.remember(tuple(res.plan))
+            points.append(
+                FrontierPoint(
+                    tuple(task.names(sel)),
+                    sel,
+                    tuple(res.plan),
+                    res.robot_cost,
+                    res.human_cost,
+                    cost_of(sel) if weighted else None,
                 )
-                progress.points.append(points[-1])
-                if res.robot_cost <= c_robot:
-                    complete = True
-                    break
-                bound = res.robot_cost - 1
-                continue
-            on = {i for i, _ in res.core} | {i for i, _ in ts}
-            _learn(hs, exclusion_clause(sel, on), stats)
+            )
+            progress.points.append(points[-1])
+            if res.robot_cost <= c_robot:
+                complete = True
+                break
+            bound = res.robot_cost - 1
     finally:
         hs.close()
         if deadline.limited:

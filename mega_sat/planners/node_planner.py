@@ -8,9 +8,10 @@ too.  Three planners answer the same question (optimal cost and one optimal plan
   (:func:`mega_sat.search.astar.solve_optimal`);
 * ``sat``     — the OPT oracle of the SAT encoding (:mod:`mega_sat.sat.oracles`);
 * ``fd``      — Fast Downward ``astar(lmcut())`` on PDDL files of the model, the paper's set-up;
-* ``portfolio`` — ``builtin``'s uniform-cost search (in a forked process) and ``sat`` at once,
-  refereed by work (states expanded against solver conflicts), so every run gives the same
-  answer; the answer's ``planner`` says which method gave it.  Past the SAT horizon cap only
+* ``portfolio`` — explicit search (uniform-cost and A* with LM-cut by turns, in a forked
+  process) and ``sat`` at once, refereed by work (search work against solver conflicts), so
+  every run gives the same answer; the answer's ``planner`` says which method gave it
+  (``builtin`` for either search, its ``reason`` which one).  Past the SAT horizon cap only
   the explicit search can decide, and it runs on alone: it is complete (it exhausts the finite
   state space of an unsolvable model), so every model gets decided, given time.
 """
@@ -201,13 +202,14 @@ class NodePlanner:
     def _race_forked(
         self, sel: frozenset[int], task: GroundTask, call: Deadline, t0: float
     ) -> PlanResult:
-        """The portfolio on both cores: uniform-cost search in a forked child while the SAT
-        OPT oracle runs here, refereed by work, not by the clock, so that every run gives
-        the same answer (and the same plan).
+        """The portfolio on both cores: the explicit searches of :func:`explicit_steps` in a
+        forked child while the SAT OPT oracle runs here, refereed by work, not by the clock,
+        so that every run gives the same answer (and the same plan).
 
-        Work is the child's expanded states and the oracle's solver conflicts plus the
-        clauses its encoding grew by (``race_clauses_per_conflict`` clauses count as one
-        conflict), converted at ``race_nodes_per_conflict``.  The search wins when it ends
+        Work is the child's (expansions, LM-cut evaluations weighted) and the oracle's solver
+        conflicts plus the clauses its encoding grew by (``race_clauses_per_conflict``
+        clauses count as one conflict), converted at ``race_nodes_per_conflict``, plus the
+        oracle's own search and integer-program work (``Solving.side_work``).  The search wins when it ends
         with fewer states than that many times the work SAT has spent (checked between
         solver chunks, whose schedule is fixed); SAT wins when it ends first by that
         measure.  Where one side is
@@ -220,14 +222,14 @@ class NodePlanner:
         rate, per_clause = opts.race_nodes_per_conflict, 1 / opts.race_clauses_per_conflict
         orc = self.oracles
         solving, enc = orc.solving, orc.opt_enc
-        start, clauses = solving.conflicts(), enc.n_clauses
+        start, clauses, side = solving.conflicts(), enc.n_clauses, solving.side_work
         if start is None:  # a solver that does not count conflicts: no referee possible
             return self._race(sel, task, call, t0)
-        child = ForkedSearch(task)
+        child = ForkedSearch(task, lmcut_weight(task, opts))
 
         def search_wins() -> bool:
             spent = solving.conflicts() - start + (enc.n_clauses - clauses) * per_clause
-            limit = rate * spent
+            limit = rate * spent + solving.side_work - side
             done, n = child.progress(limit, call)
             return done and n < limit
 
@@ -253,26 +255,23 @@ class NodePlanner:
                 if r is not None:
                     return PlanResult(r.status, None, None, False, "sat", 0.0, r.reason)
                 return self._race(sel, task, call, t0)
-            status, plan, cost = got
+            status, plan, cost, method = got
             self._first = "builtin"
             elapsed = time.perf_counter() - t0
-            return PlanResult(status, plan, cost, True, "builtin", elapsed, "uniform-cost search")
+            return PlanResult(status, plan, cost, True, "builtin", elapsed, method)
         finally:
             child.stop()
 
     def _race(self, sel: frozenset[int], task: GroundTask, call: Deadline, t0: float) -> PlanResult:
-        """The portfolio in one process: uniform-cost search and the SAT OPT oracle in turns
+        """The portfolio in one process: the explicit searches and the SAT OPT oracle in turns
         of fixed work, doubling each round (search: ``race_nodes_per_conflict`` states per
         conflict of the SAT turn), until one decides.  The search is paused and resumed;
         SAT OPT restarts, its solver keeping what it learned.  SAT past its horizon cap drops
         out and the search runs on until ``call``.  The method that answered the last call
         goes first.  Turns are counted in work, not seconds, so every run answers alike."""
         from mega_sat.sat.oracles import OracleInterrupted
-        from mega_sat.search.astar import uniform_cost_steps
 
-        init = sum(1 << p for p in task.init)
-        goal = sum(1 << p for p in task.goal)
-        search = uniform_cost_steps(task, init, goal)
+        search = explicit_steps(task, lmcut_weight(task, self.options))
         methods = [self._first] + [m for m in ("builtin", "sat") if m != self._first]
         conflicts = self.options.race_first_conflicts
         why = "time limit"
@@ -288,8 +287,8 @@ class NodePlanner:
                             if (nodes is not None and n >= nodes) or call.expired():
                                 break
                     except StopIteration as done:
-                        status, plan, cost, _ = done.value
-                        r = PlanResult(status, plan, cost, True, m, 0.0, "uniform-cost search")
+                        status, plan, cost, _, method = done.value
+                        r = PlanResult(status, plan, cost, True, m, 0.0, method)
                 else:
                     solving = self.oracles.solving
                     solving.stop_probe = None if alone else _spent(solving, conflicts)
@@ -318,13 +317,30 @@ def _spent(solving, allowed: int):
     return lambda: (solving.conflicts() or 0) - start >= allowed
 
 
+def explicit_steps(task: GroundTask, lmcut_weight: float):
+    """The portfolio's explicit side on ``task``: uniform-cost search and A* with LM-cut by
+    turns (:func:`mega_sat.search.astar.blind_and_lmcut_steps`); a generator of work done,
+    returning ``(status, plan, cost, work, method)``."""
+    from mega_sat.search.astar import blind_and_lmcut_steps
+
+    init = sum(1 << p for p in task.init)
+    goal = sum(1 << p for p in task.goal)
+    return blind_and_lmcut_steps(task, init, goal, lmcut_weight)
+
+
+def lmcut_weight(task: GroundTask, options: Options) -> float:
+    """The work of one LM-cut evaluation in uniform-cost expansions: it grows with the
+    number of actions the relaxation walks (``Options.race_lmcut_per_action``)."""
+    return max(1.0, options.race_lmcut_per_action * len(task.actions))
+
+
 class ForkedSearch:
-    """Uniform-cost search of ``task`` in a forked child process.  Its progress (states
-    expanded; negative once done) is one shared 8-byte counter, its answer ``(status, plan,
-    cost)`` comes back pickled through a pipe.  The child ignores Ctrl-C (the parent stops
+    """The explicit searches of :func:`explicit_steps` in a forked child process.  Their
+    progress (work done; negative once done) is one shared 8-byte counter, the answer
+    ``(status, plan, cost, method)`` comes back pickled through a pipe.  The child ignores Ctrl-C (the parent stops
     it) and leaves by ``os._exit``, so it never flushes the parent's buffered output."""
 
-    def __init__(self, task: GroundTask):
+    def __init__(self, task: GroundTask, lmcut_weight: float):
         import mmap
         import warnings
 
@@ -341,22 +357,18 @@ class ForkedSearch:
                 import signal
                 import struct
 
-                from mega_sat.search.astar import uniform_cost_steps
-
                 signal.signal(signal.SIGINT, signal.SIG_IGN)
                 os.close(self._read)
-                init = sum(1 << p for p in task.init)
-                goal = sum(1 << p for p in task.goal)
-                steps = uniform_cost_steps(task, init, goal)
+                steps = explicit_steps(task, lmcut_weight)
                 try:
                     while True:
-                        struct.pack_into("<q", self._counter, 0, next(steps))
+                        struct.pack_into("<q", self._counter, 0, int(next(steps)))
                 except StopIteration as done:
-                    status, plan, cost, expanded = done.value
-                view = memoryview(pickle.dumps((status, plan, cost)))
+                    status, plan, cost, work, method = done.value
+                view = memoryview(pickle.dumps((status, plan, cost, method)))
                 while view:
                     view = view[os.write(write, view) :]
-                struct.pack_into("<q", self._counter, 0, -expanded - 1)
+                struct.pack_into("<q", self._counter, 0, -int(work) - 1)
                 code = 0
             finally:
                 os._exit(code)

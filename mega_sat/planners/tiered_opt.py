@@ -23,6 +23,7 @@ on (JOINT looks at all plans within the cost).  ``stats`` counts the answers per
 from __future__ import annotations
 
 import time
+from dataclasses import dataclass
 
 from mega_sat.analysis.abstraction import abstract_task
 from mega_sat.analysis.pair_reachability import goal_pair_unreachable
@@ -36,6 +37,17 @@ from mega_sat.search.astar import PlanResult, astar
 from mega_sat.status import Status
 
 _INF = float("inf")
+
+
+@dataclass(frozen=True)
+class Bounds:
+    """What :meth:`TieredOpt.bounds` knows about an undecided model without search:
+    ``lower`` (LM-cut of the initial state) <= optimum <= ``upper``, the cost of ``plan``,
+    a plan of the model (both ``None`` when no remembered plan runs in it)."""
+
+    lower: int
+    plan: tuple[PlanStep, ...] | None
+    upper: int | None
 
 
 class TieredOpt:
@@ -58,23 +70,43 @@ class TieredOpt:
         }
         self.time_s = 0.0
 
-    def optimal(self, selection: frozenset[int]) -> PlanResult:
+    def optimal(self, selection: frozenset[int], *, searched_only: bool = False) -> PlanResult:
+        """The optimum of ``human + selection``; ``searched_only``: skip tiers 1-2 (the
+        caller has just asked :meth:`bounds`, which answered nothing)."""
         t0 = time.perf_counter()
+        sel = frozenset(selection)
         try:
-            r = self._optimal(frozenset(selection), t0)
+            r = self._search(sel, t0) if searched_only else self._optimal(sel, t0)
         finally:
             self.time_s += time.perf_counter() - t0
-        if r.status == Status.OPTIMAL and r.plan is not None and r.plan not in self._seen:
-            self._seen.add(r.plan)
-            self._plans.append(r.plan)
+        if r.status == Status.OPTIMAL and r.plan is not None:
+            self.remember(r.plan)
         return r
 
-    def _optimal(self, sel: frozenset[int], t0: float) -> PlanResult:
+    def remember(self, plan: tuple[PlanStep, ...]) -> None:
+        """Keep ``plan`` (of any model of the family) for tier 2 and :meth:`bounds`."""
+        if plan not in self._seen:
+            self._seen.add(plan)
+            self._plans.append(plan)
+
+    def bounds(self, selection: frozenset[int]) -> PlanResult | Bounds:
+        """Tiers 1 and 2 alone: a decided answer when they give one, else what they know
+        without search: LM-cut of the initial state (a proven lower bound on the optimum) and
+        the cheapest remembered plan that runs in ``human + selection`` (an upper bound), if
+        any.  The loop asks JOINT at that upper bound before it pays for a proof of the
+        optimum (encodings/hitting-set.md, "JOINT before OPT")."""
+        t0 = time.perf_counter()
+        try:
+            r = self._cheap(frozenset(selection), t0)
+        finally:
+            self.time_s += time.perf_counter() - t0
+        return r
+
+    def _cheap(self, sel: frozenset[int], t0: float) -> PlanResult | Bounds:
         task = self.family.specialize(sel)
 
         def done(status, plan, cost, how) -> PlanResult:
-            self.stats[f"opt_by_{how}"] += 1
-            return PlanResult(status, plan, cost, True, how, time.perf_counter() - t0, how)
+            return self._done(status, plan, cost, how, t0)
 
         bound = RelaxedTask(task).lmcut(sorted(task.init))
         if bound == _INF:
@@ -88,13 +120,29 @@ class TieredOpt:
                 best = (c, plan)
         if best is not None and best[0] <= bound:
             return done(Status.OPTIMAL, best[1], best[0], "cached")
+        lower = int(bound)
+        return Bounds(lower, None, None) if best is None else Bounds(lower, best[1], best[0])
+
+    def _optimal(self, sel: frozenset[int], t0: float) -> PlanResult:
+        cheap = self._cheap(sel, t0)
+        if isinstance(cheap, PlanResult):
+            return cheap
+        return self._search(sel, t0)
+
+    def _done(self, status: Status, plan, cost, how: str, t0: float) -> PlanResult:
+        self.stats[f"opt_by_{how}"] += 1
+        return PlanResult(status, plan, cost, True, how, time.perf_counter() - t0, how)
+
+    def _search(self, sel: frozenset[int], t0: float) -> PlanResult:
+        """Tiers 3 and 4: the optimum of ``human + sel`` by search."""
+        task = self.family.specialize(sel)
         if self.quick_nodes:
             # no deadline: the node budget bounds it, and a proof it finds is kept even at the
             # deadline (the loop then still reports the robot optimum and a lower bound)
             r = astar(task, heuristic="blind", node_limit=self.quick_budget)
             if r.status.decided:
                 self.quick_budget = min(self.quick_nodes, 2 * self.quick_budget)
-                return done(r.status, r.plan, r.cost, "quick_search")
+                return self._done(r.status, r.plan, r.cost, "quick_search", t0)
             # where it keeps running out, it is mostly overhead: try it smaller next time
             self.quick_budget = max(self.quick_nodes // 64, self.quick_budget // 2, 1)
         self.stats["opt_by_planner"] += 1

@@ -65,6 +65,8 @@ class CountingBounds:
         if cut:
             limit = max(left, 0.01)
         got = operator_counting_bound(task, time_limit=limit)
+        # its work, for the OPT portfolio's referee: an integer program over the actions
+        self.solving.side_work += self.options.race_states_per_lp_action * len(task.actions)
         if not (cut and got is None):  # a bound cut short by the deadline may be found later
             self._cache[key] = got
         self._tries += 1

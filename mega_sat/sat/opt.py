@@ -106,7 +106,9 @@ class OptOracle:
         if c <= 0:
             return None
         t0 = time.perf_counter()
-        x, plan = extra_cost_search(self.orc.task(sel), c, self.options.opt_extra_node_limit)
+        spent: list[int] = []
+        x, plan = extra_cost_search(self.orc.task(sel), c, self.options.opt_extra_node_limit, spent)
+        self.orc.solving.side_work += sum(spent)
         stats = self.stats
         stats.search_time_s = add_seconds(stats.search_time_s, time.perf_counter() - t0)
         self._extra[sel] = (c, max(extra, x))
@@ -178,6 +180,7 @@ class OptOracle:
             plan, best = reduce_plan(task, plan)
         if best is None or best > lb_cost:
             got = orc.counting.bound(lits, above=lb_cost)
+            solving.check()  # the portfolio's referee may end the call here
             if got is not None and got > lb_cost:
                 if got == _INF:
                     assert best is None, "operator counting found no plan, but there is one: bug"
@@ -186,6 +189,7 @@ class OptOracle:
                 lb_cost, why_lb = int(got), "meets the operator-counting lower bound"
         if (best is None or best > lb_cost) and self.search_first(task, best is not None):
             plan, best = cheaper(task, self.tighten_extra(sel), plan, best)
+            solving.check()
         cap = self.options.horizon_cap
         h = min(max(lb_steps, 1), cap)
         while plan is None:
@@ -215,6 +219,7 @@ class OptOracle:
                 # explicit search is the proof, and SAT at the cap only the best effort
                 if sel not in self._extra_searched:
                     plan, best = cheaper(task, self.tighten_extra(sel), plan, best)
+                    solving.check()
                     continue
                 got = self._by_search(task, reason)
                 if got is not None:
@@ -253,6 +258,7 @@ class OptOracle:
             if ok is None:
                 # a hard query: an exact lower bound on the cost above N * c may shorten it
                 plan, best = cheaper(task, self.tighten_extra(sel), plan, best)
+                solving.check()
                 continue
             if not ok:
                 return done(Status.OPTIMAL, best, plan, exact, reason or "proven by SAT")

@@ -77,6 +77,9 @@ class Solving:
         self._deadline = NO_DEADLINE
         self._call_deadline = NO_DEADLINE
         self.stop_probe: Callable[[], bool] | None = None  # the portfolio's "search is done"
+        # work done outside the solvers (searches, integer programs), in search states, for
+        # the portfolio's referee; it only grows, and counts the same on every run
+        self.side_work = 0
         self._at: float | None = None  # the earlier of the two, as a perf_counter value
         self._timer: threading.Timer | None = None
         self._native_interrupt = _supports_interrupt(self.joint_solver)

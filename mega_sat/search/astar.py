@@ -113,11 +113,48 @@ def astar(
     if heuristic not in HEURISTICS:
         raise ValueError(f"unknown heuristic {heuristic!r} (choose from {', '.join(HEURISTICS)})")
     t0 = time.perf_counter()
-    planner = f"builtin-astar({heuristic})"
     goal = sum(1 << p for p in task.goal)
     init = sum(1 << p for p in task.init)
     min_cost = min((a.cost for a in task.actions), default=0)
+    stop_at = (deadline or NO_DEADLINE).at
+    if heuristic == "blind" and min_cost <= 0:
+        # h is 0 everywhere: Dijkstra, in the same order as the heap below (by g, then first
+        # generated), but with a FIFO list per g; OPT's lowered-cost search lives here
+        status, plan, cost, expanded = _uniform_cost(task, init, goal, node_limit, stop_at)
+    else:
+        steps = astar_steps(task, init, goal, heuristic, node_limit)
+        try:
+            while True:
+                next(steps)
+                if stop_at is not None and time.perf_counter() > stop_at:
+                    status, plan, cost, expanded = Status.TIMEOUT, None, None, 0
+                    break
+        except StopIteration as done:
+            status, plan, cost, expanded, _ = done.value
+    return PlanResult(
+        status,
+        plan,
+        cost,
+        status.decided,
+        f"builtin-astar({heuristic})",
+        time.perf_counter() - t0,
+        "" if status.decided else str(status),
+        expanded,
+    )
 
+
+def astar_steps(
+    task: GroundTask,
+    init: int,
+    goal: int,
+    heuristic: str = "lmcut",
+    node_limit: int | None = None,
+    every: int = _CHECK_EVERY,
+):
+    """A* with reopening as a generator that can be paused and resumed: it yields the number
+    of heuristic evaluations so far every ``every`` expansions (with LM-cut they are nearly
+    all of the work) and returns ``(status, plan, cost, expanded, evaluations)``."""
+    min_cost = min((a.cost for a in task.actions), default=0)
     if heuristic == "blind":
 
         def h_of(s: int) -> float:
@@ -129,28 +166,10 @@ def astar(
         def h_of(s: int) -> float:
             return fn(bits(s))
 
-    def result(status: Status, plan=None, cost=None) -> PlanResult:
-        return PlanResult(
-            status,
-            plan,
-            cost,
-            status.decided,
-            planner,
-            time.perf_counter() - t0,
-            "" if status.decided else str(status),
-            expanded,
-        )
-
-    stop_at = (deadline or NO_DEADLINE).at
-    expanded = 0
+    expanded = evaluations = 0
     h0 = h_of(init)
     if h0 == _INF:
-        return result(Status.UNSOLVABLE)
-    if heuristic == "blind" and min_cost <= 0:
-        # h is 0 everywhere: Dijkstra, in the same order as the heap below (by g, then first
-        # generated), but with a FIFO list per g; OPT's lowered-cost search lives here
-        status, plan, cost, expanded = _uniform_cost(task, init, goal, node_limit, stop_at)
-        return result(status, plan, cost)
+        return Status.UNSOLVABLE, None, None, 0, 1
     groups = _successor_groups(task)
     actions = task.actions
     mask = state_key_mask(len(task.atoms))
@@ -165,11 +184,11 @@ def astar(
         if g > best_g[k]:
             continue
         if s & goal == goal:
-            return result(Status.OPTIMAL, _trace(parent, actions, s, mask), g)
+            return Status.OPTIMAL, _trace(parent, actions, s, mask), g, expanded, evaluations
         if node_limit is not None and expanded >= node_limit:
-            return result(Status.LIMIT)
-        if stop_at is not None and expanded % _CHECK_EVERY == 0 and time.perf_counter() > stop_at:
-            return result(Status.TIMEOUT)
+            return Status.LIMIT, None, None, expanded, evaluations
+        if expanded % every == 0:
+            yield evaluations
         expanded += 1
         for bit, acts in groups:
             if bit and not s & bit:
@@ -185,6 +204,7 @@ def astar(
                     continue
                 h2 = h_cache.get(k2)
                 if h2 is None:
+                    evaluations += 1
                     h2 = h_cache[k2] = h_of(s2)
                 if h2 == _INF:
                     continue
@@ -192,7 +212,7 @@ def astar(
                 parent[k2] = (s, j)
                 counter += 1
                 heapq.heappush(open_list, (g2 + h2, h2, counter, g2, s2, k2))
-    return result(Status.UNSOLVABLE)
+    return Status.UNSOLVABLE, None, None, expanded, evaluations
 
 
 def _trace(
@@ -279,6 +299,36 @@ def uniform_cost_steps(task: GroundTask, init: int, goal: int, node_limit: int |
                         buckets[g2] = [s2]
                         heapq.heappush(pending, g2)
     return Status.UNSOLVABLE, None, None, expanded
+
+
+def blind_and_lmcut_steps(
+    task: GroundTask, init: int, goal: int, lmcut_weight: float, node_limit: int | None = None
+):
+    """Uniform-cost search and A* with LM-cut on the same task, taking turns by work, as a
+    generator: it yields the work spent so far (uniform-cost expansions plus ``lmcut_weight``
+    per LM-cut evaluation) and returns ``(status, plan, cost, work, method)`` from whichever
+    ends first.  Both are exact, so either answer is a proof; blind search wins on small
+    state spaces, LM-cut where the heuristic prunes most of the space (it can expand a few
+    hundred states where blind search expands hundreds of thousands).  Turns follow the work
+    counts only, so every run ends the same way.  ``node_limit`` caps each search's
+    expansions (``LIMIT`` once both are capped)."""
+    blind = uniform_cost_steps(task, init, goal, node_limit)
+    informed = astar_steps(task, init, goal, "lmcut", node_limit, every=1)
+    work = {"uniform-cost search": 0.0, "A* with LM-cut": 0.0}
+    running = {"uniform-cost search": blind, "A* with LM-cut": informed}
+    weight = {"uniform-cost search": 1.0, "A* with LM-cut": lmcut_weight}
+    while running:
+        method = min(running, key=lambda m: (work[m], m))
+        try:
+            work[method] = weight[method] * next(running[method])
+        except StopIteration as done:
+            status, plan, cost = done.value[:3]
+            if status.decided:
+                return status, plan, cost, sum(work.values()), method
+            del running[method]
+            continue
+        yield sum(work.values())
+    return Status.LIMIT, None, None, sum(work.values()), "search"
 
 
 def solve_optimal(

@@ -17,11 +17,12 @@ from mega_sat.search.astar import astar
 
 
 def extra_cost_search(
-    task: GroundTask, c_min: int, node_limit: int
+    task: GroundTask, c_min: int, node_limit: int, expanded: list[int] | None = None
 ) -> tuple[int, tuple[PlanStep, ...] | None]:
     """:func:`extra_cost_bound`, made exact by an explicit optimal search under the lowered
     costs when it finishes within ``node_limit`` expansions (else the LM-cut estimate), and
-    the plan that search found (``None`` if it ran out).
+    the plan that search found (``None`` if it ran out); ``expanded`` (a list) gets the
+    search's expansions appended.
 
     The plan has the fewest cost units above ``c_min`` per step; where every optimal plan of
     the task is one of those, OPT's descent starts at the optimum."""
@@ -35,6 +36,8 @@ def extra_cost_search(
         task.goal,
     )
     r = astar(low, heuristic="blind", node_limit=node_limit)
+    if expanded is not None:
+        expanded.append(r.expanded)
     if r.status == "optimal" and r.cost is not None:
         return max(lm, int(r.cost)), tuple(r.plan)
     return lm, None
