@@ -337,8 +337,9 @@ def lmcut_weight(task: GroundTask, options: Options) -> float:
 class ForkedSearch:
     """The explicit searches of :func:`explicit_steps` in a forked child process.  Their
     progress (work done; negative once done) is one shared 8-byte counter, the answer
-    ``(status, plan, cost, method)`` comes back pickled through a pipe.  The child ignores Ctrl-C (the parent stops
-    it) and leaves by ``os._exit``, so it never flushes the parent's buffered output."""
+    ``(status, plan, cost, method)`` comes back pickled through a pipe.  The child ignores
+    Ctrl-C (the parent stops it) and leaves by ``os._exit``, so it never flushes the parent's
+    buffered output."""
 
     def __init__(self, task: GroundTask, lmcut_weight: float):
         import mmap

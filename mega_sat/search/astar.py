@@ -125,9 +125,9 @@ def astar(
         steps = astar_steps(task, init, goal, heuristic, node_limit)
         try:
             while True:
-                next(steps)
+                expanded, _ = next(steps)
                 if stop_at is not None and time.perf_counter() > stop_at:
-                    status, plan, cost, expanded = Status.TIMEOUT, None, None, 0
+                    status, plan, cost = Status.TIMEOUT, None, None
                     break
         except StopIteration as done:
             status, plan, cost, expanded, _ = done.value
@@ -151,9 +151,10 @@ def astar_steps(
     node_limit: int | None = None,
     every: int = _CHECK_EVERY,
 ):
-    """A* with reopening as a generator that can be paused and resumed: it yields the number
-    of heuristic evaluations so far every ``every`` expansions (with LM-cut they are nearly
-    all of the work) and returns ``(status, plan, cost, expanded, evaluations)``."""
+    """A* with reopening as a generator that can be paused and resumed: it yields
+    ``(expanded, evaluations)`` so far every ``every`` expansions (with LM-cut the heuristic
+    evaluations are nearly all of the work) and returns ``(status, plan, cost, expanded,
+    evaluations)``."""
     min_cost = min((a.cost for a in task.actions), default=0)
     if heuristic == "blind":
 
@@ -188,7 +189,7 @@ def astar_steps(
         if node_limit is not None and expanded >= node_limit:
             return Status.LIMIT, None, None, expanded, evaluations
         if expanded % every == 0:
-            yield evaluations
+            yield expanded, evaluations
         expanded += 1
         for bit, acts in groups:
             if bit and not s & bit:
@@ -301,6 +302,17 @@ def uniform_cost_steps(task: GroundTask, init: int, goal: int, node_limit: int |
     return Status.UNSOLVABLE, None, None, expanded
 
 
+def _evaluations(steps):
+    """:func:`astar_steps` with its progress as the evaluation count alone (its work), and
+    the same return value."""
+    while True:
+        try:
+            _, evaluations = next(steps)
+        except StopIteration as done:
+            return done.value
+        yield evaluations
+
+
 def blind_and_lmcut_steps(
     task: GroundTask, init: int, goal: int, lmcut_weight: float, node_limit: int | None = None
 ):
@@ -312,10 +324,12 @@ def blind_and_lmcut_steps(
     hundred states where blind search expands hundreds of thousands).  Turns follow the work
     counts only, so every run ends the same way.  ``node_limit`` caps each search's
     expansions (``LIMIT`` once both are capped)."""
-    blind = uniform_cost_steps(task, init, goal, node_limit)
     informed = astar_steps(task, init, goal, "lmcut", node_limit, every=1)
     work = {"uniform-cost search": 0.0, "A* with LM-cut": 0.0}
-    running = {"uniform-cost search": blind, "A* with LM-cut": informed}
+    running = {
+        "uniform-cost search": uniform_cost_steps(task, init, goal, node_limit),
+        "A* with LM-cut": _evaluations(informed),
+    }
     weight = {"uniform-cost search": 1.0, "A* with LM-cut": lmcut_weight}
     while running:
         method = min(running, key=lambda m: (work[m], m))
