@@ -54,6 +54,8 @@ VECTORISE_MIN_ROWS = 256
 """Groundings of one schema from which numpy pays for itself (below, per action is faster)."""
 
 _CHECK_EVERY = 4096
+_VECTOR_ROWS = 1 << 15
+"""Actions grounded per vectorised block: the deadline is checked between blocks."""
 """Ground actions between two deadline checks: frequent enough to stop within a fraction of a
 second, rare enough to cost nothing measurable."""
 
@@ -517,7 +519,19 @@ def ground(
                 from mega_sat.ground.atom_table import AtomTable
 
                 table = AtomTable(ids, objects)
-            entries = table.ground_block(parts, params[name], arg_rows)
+            # in blocks of rows, the deadline checked between them: one block of a few
+            # hundred thousand actions takes seconds
+            entries = []
+            for start in range(0, len(arg_rows), _VECTOR_ROWS):
+                got = table.ground_block(
+                    parts, params[name], arg_rows[start : start + _VECTOR_ROWS]
+                )
+                if got is None:
+                    entries = None
+                    break
+                entries += got
+                if deadline is not None:
+                    deadline.check()
         if entries is None:  # per action (the reference path)
             if table is not None:
                 table.forget()  # the path below may give atoms fresh ids
