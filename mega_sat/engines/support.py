@@ -96,7 +96,8 @@ def unsolvable_core(
     """
     from mega_sat.analysis.abstraction import abstract_task
     from mega_sat.analysis.pair_reachability import goal_pair_unreachable
-    from mega_sat.search.astar import astar, within
+    from mega_sat.search.astar import within
+    from mega_sat.search.vector_search import goal_reachable
 
     deadline = deadline if deadline is not None else NO_DEADLINE
     searches = within(deadline, search_seconds)
@@ -111,9 +112,9 @@ def unsolvable_core(
         if searches.expired():
             short[0] += 1
             return False
-        r = astar(abstraction, heuristic="blind", deadline=searches, node_limit=node_limit)
-        short[0] += not r.status.decided
-        return r.status == Status.UNSOLVABLE
+        verdict = goal_reachable(abstraction, node_limit=node_limit, deadline=searches)
+        short[0] += verdict in (Status.LIMIT, Status.TIMEOUT)
+        return verdict == Status.UNSOLVABLE
 
     short = [0]
 

@@ -250,10 +250,44 @@ def _uniform_cost(
         return done.value
 
 
+_VECTOR_AFTER = 2048
+"""Expansions after which uniform-cost search moves to numpy layers: building the arrays
+costs a few milliseconds, what a pure-Python search of a few hundred states costs."""
+
+
 def uniform_cost_steps(task: GroundTask, init: int, goal: int, node_limit: int | None = None):
     """:func:`_uniform_cost` as a generator that can be paused and resumed: it yields the
     count of expanded states every few expansions and returns ``(status, plan, cost,
-    expanded)``.  The portfolio planner runs it in time slices without starting over."""
+    expanded)``.  The portfolio planner runs it in time slices without starting over.
+
+    Small searches run in pure Python; one that passes ``_VECTOR_AFTER`` expansions starts
+    again as :func:`mega_sat.search.vector_search.vector_uniform_cost_steps`, which expands the
+    same states in the same order and yields the same counts, so the caller sees one search."""
+    python = _python_uniform_cost_steps(task, init, goal, node_limit)
+    try:
+        while (seen := next(python)) < _VECTOR_AFTER:
+            yield seen
+    except StopIteration as done:
+        return done.value
+    python.close()
+    from mega_sat.search.vector_search import vector_uniform_cost_steps
+
+    order = [act[0] for _, acts in _successor_groups(task) for act in acts]
+    vector = vector_uniform_cost_steps(
+        task, init, goal, node_limit, order=order, check_every=_CHECK_EVERY
+    )
+    try:
+        while True:
+            if (count := next(vector)) >= seen:  # the counts up to ``seen`` are yielded
+                yield count
+    except StopIteration as done:
+        return done.value
+
+
+def _python_uniform_cost_steps(
+    task: GroundTask, init: int, goal: int, node_limit: int | None = None
+):
+    """:func:`uniform_cost_steps` one state at a time."""
     groups = _successor_groups(task)
     actions = task.actions
     mask = state_key_mask(len(task.atoms))

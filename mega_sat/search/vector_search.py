@@ -1,0 +1,258 @@
+"""Uniform-cost search over numpy arrays of bit-packed states.
+
+:func:`mega_sat.search.astar.uniform_cost_steps` pops one state at a time in pure Python, about
+a hundred thousand states a second.  An unsolvable model must be searched to exhaustion, and
+the human models of a large model difference often are unsolvable with state spaces of a
+million states; so this search expands whole layers at once: a layer of states is a
+``(n, words)`` array of ``uint64``, applicability of every action is two mask tests over the
+whole layer, and the closed list is a few sorted arrays searched with ``searchsorted``.
+
+It is the same search in the same order: states of one path cost ``g`` in the order they were
+first generated, the successors of a state in the order of its actions, zero-cost successors
+after the states of the same ``g`` that were there before them.  So it expands the same states,
+returns the same plan, yields the same counts at the same points (every ``_CHECK_EVERY``
+expansions) and returns the same answer as the pure-Python search, only faster on large
+layers.  ``tests/test_vector_search.py`` checks that on random tasks.
+
+Only the atoms some action adds or deletes are stored (the others keep their initial value),
+so most tasks here fit one 64-bit word per state.
+"""
+
+from __future__ import annotations
+
+import heapq
+
+import numpy as np
+
+from mega_sat.deadline import NO_DEADLINE, Deadline
+from mega_sat.ground.family import GroundTask
+from mega_sat.model.lifted import PlanStep
+from mega_sat.status import Status
+
+_WORD = 64
+_ALL = (1 << _WORD) - 1
+_CHUNK = 4096
+"""States expanded per numpy pass: large enough that numpy's per-call cost is small, small
+enough that the applicability matrix (states x actions) stays a few megabytes."""
+
+
+def _words(atoms, pos: dict[int, int], n_words: int) -> list[int]:
+    mask = 0
+    for p in atoms:
+        mask |= 1 << pos[p]
+    return [(mask >> (_WORD * w)) & _ALL for w in range(n_words)]
+
+
+class _Closed:
+    """A set of state keys as a few sorted arrays of doubling size (a log-structured merge):
+    membership is one ``searchsorted`` per array, insertion amortises the sorting."""
+
+    def __init__(self) -> None:
+        self.levels: list[np.ndarray] = []
+
+    def contains(self, keys: np.ndarray) -> np.ndarray:
+        found = np.zeros(len(keys), dtype=bool)
+        for level in self.levels:
+            at = np.minimum(np.searchsorted(level, keys), len(level) - 1)
+            found |= level[at] == keys
+        return found
+
+    def add(self, keys: np.ndarray) -> None:
+        self.levels.append(np.sort(keys))
+        while len(self.levels) > 1 and len(self.levels[-2]) <= 2 * len(self.levels[-1]):
+            top = self.levels.pop()
+            self.levels[-1] = np.sort(np.concatenate((self.levels[-1], top)))
+
+
+class _Layout:
+    """The search's view of ``task``: actions in generation order as word arrays."""
+
+    def __init__(self, task: GroundTask, order: list[int]):
+        mutable = sorted({p for a in task.actions for p in (*a.add, *a.delete)})
+        pos = {p: i for i, p in enumerate(mutable)}
+        self.n_words = w = max(1, -(-len(mutable) // _WORD))
+        init = set(task.init)
+        rows, pre, neg, keep, add = [], [], [], [], []
+        for j in order:
+            a = task.actions[j]
+            fixed_pre = [p for p in a.pre if p not in pos]
+            fixed_neg = [p for p in a.negpre if p not in pos]
+            # an atom no action changes keeps its initial value in every reachable state
+            if any(p not in init for p in fixed_pre) or any(p in init for p in fixed_neg):
+                continue
+            rows.append(j)
+            pre.append(_words([p for p in a.pre if p in pos], pos, w))
+            neg.append(_words([p for p in a.negpre if p in pos], pos, w))
+            keep.append([x ^ _ALL for x in _words(a.delete, pos, w)])
+            add.append(_words(a.add, pos, w))
+        self.action = np.array(rows, dtype=np.int64)
+        self.cost = np.array([task.actions[j].cost for j in rows], dtype=np.int64)
+        self.pre, self.neg, self.keep, self.add = (
+            np.array(x, dtype=np.uint64).reshape(-1, w) for x in (pre, neg, keep, add)
+        )
+        self.pos = pos
+        self.init_set = init
+
+    def state(self, atoms) -> np.ndarray:
+        return np.array([_words([p for p in atoms if p in self.pos], self.pos, self.n_words)],
+                        dtype=np.uint64)  # fmt: skip
+
+    def goal(self, goal_atoms) -> tuple[np.ndarray, bool]:
+        """The goal's words, and whether it can hold at all (a goal atom no action changes
+        must be true initially)."""
+        possible = all(p in self.pos or p in self.init_set for p in goal_atoms)
+        return self.state(goal_atoms)[0], possible
+
+    def keys(self, states: np.ndarray) -> np.ndarray:
+        """Exact sortable keys: the word itself, or the row's bytes for wider states."""
+        if self.n_words == 1:
+            return states[:, 0]
+        return np.ascontiguousarray(states).view(np.dtype((np.void, 8 * self.n_words))).ravel()
+
+    def successors(self, states: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``(row, action row, successor)`` for every applicable action of every state, in
+        generation order (by state, then action)."""
+        ok = np.ones((len(states), len(self.action)), dtype=bool)
+        for w in range(self.n_words):
+            s = states[:, w : w + 1]
+            ok &= (s & self.pre[:, w]) == self.pre[:, w]
+            ok &= (s & self.neg[:, w]) == 0
+        rows, acts = np.nonzero(ok)
+        return rows, acts, (states[rows] & self.keep[acts]) | self.add[acts]
+
+
+def _first_new(keys: np.ndarray, closed: _Closed) -> np.ndarray:
+    """Indices of the first occurrence of each key not in ``closed``, in order of occurrence
+    (the closed list is searched with the sorted unique keys, which is cache-friendly)."""
+    unique, first = np.unique(keys, return_index=True)
+    first = first[~closed.contains(unique)]
+    first.sort()
+    return first
+
+
+def vector_uniform_cost_steps(
+    task: GroundTask,
+    init: int,
+    goal: int,
+    node_limit: int | None = None,
+    *,
+    order: list[int] | None = None,
+    check_every: int = 32,
+):
+    """:func:`mega_sat.search.astar.uniform_cost_steps` on numpy layers: the same generator
+    protocol (it yields the expansions so far every ``check_every`` expansions and returns
+    ``(status, plan, cost, expanded)``), the same states in the same order.  ``order``: the
+    actions' generation order (default: their index order)."""
+    if order is None:
+        order = list(range(len(task.actions)))
+    lay = _Layout(task, order)
+    goal_w, goal_possible = lay.goal([p for p in range(len(task.atoms)) if goal >> p & 1])
+    closed = _Closed()
+    # what the plan is read back from: per closed state id, its parent's id and action
+    parents: list[np.ndarray] = []
+    actions: list[np.ndarray] = []
+    n_closed = 0
+    start = lay.state([p for p in range(len(task.atoms)) if init >> p & 1])
+    buckets: dict[int, list[tuple[np.ndarray, np.ndarray, np.ndarray]]] = {
+        0: [(start, np.array([-1]), np.array([-1]))]
+    }
+    pending = [0]
+    expanded = 0
+
+    def trace(parent: int, act: int) -> tuple[PlanStep, ...]:
+        steps: list[PlanStep] = []
+        if act < 0:  # the initial state
+            return ()
+        up, how = np.concatenate(parents), np.concatenate(actions)
+        while act >= 0:
+            steps.append(task.actions[int(act)].step)
+            parent, act = int(up[parent]), int(how[parent])
+        return tuple(reversed(steps))
+
+    while pending:
+        g = heapq.heappop(pending)
+        parts = buckets.pop(g)
+        layer = tuple(np.concatenate(x) for x in zip(*parts, strict=True))
+        while len(layer[0]):
+            states, up, how = layer
+            keys = lay.keys(states)
+            fresh = _first_new(keys, closed)
+            states, up, how, keys = states[fresh], up[fresh], how[fresh], keys[fresh]
+            if not len(states):
+                break
+            n = len(states)
+            at_goal = (
+                np.flatnonzero(((states & goal_w) == goal_w).all(axis=1)) if goal_possible else ()
+            )
+            stop = int(at_goal[0]) if len(at_goal) else n
+            room = n if node_limit is None else max(node_limit - expanded, 0)
+            # pop by pop, the pure-Python search tests the goal, then the node limit, then
+            # yields every check_every pops: k pops pass both tests here
+            k = min(stop, room, n)
+            yield from range(-(-expanded // check_every) * check_every, expanded + k, check_every)
+            if k < n:
+                expanded += k
+                if k == stop:
+                    return Status.OPTIMAL, trace(int(up[k]), int(how[k])), g, expanded
+                return Status.LIMIT, None, None, expanded
+            closed.add(keys)
+            ids = np.arange(n_closed, n_closed + n)
+            n_closed += n
+            parents.append(up)
+            actions.append(how)
+            zero: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []
+            for lo in range(0, n, _CHUNK):
+                rows, acts, succ = lay.successors(states[lo : lo + _CHUNK])
+                g2 = g + lay.cost[acts]
+                parent_ids, act_ids = ids[lo + rows], lay.action[acts]
+                same = g2 == g
+                if same.any():
+                    zero.append((succ[same], parent_ids[same], act_ids[same]))
+                for c in np.unique(g2[~same]):
+                    pick = g2 == c
+                    c = int(c)
+                    if c not in buckets:
+                        buckets[c] = []
+                        heapq.heappush(pending, c)
+                    buckets[c].append((succ[pick], parent_ids[pick], act_ids[pick]))
+            expanded += n
+            if not zero:
+                break
+            layer = tuple(np.concatenate(x) for x in zip(*zero, strict=True))
+    return Status.UNSOLVABLE, None, None, expanded
+
+
+def goal_reachable(
+    task: GroundTask, *, node_limit: int | None = None, deadline: Deadline | None = None
+) -> Status:
+    """Whether any state of ``task`` satisfies its goal, by breadth-first reachability on numpy
+    layers, costs ignored: ``PLAN`` once a reached state satisfies the goal, ``UNSOLVABLE`` once
+    every reachable state is expanded (a proof that ``task`` has no plan), ``LIMIT`` when that
+    would take more than ``node_limit`` expansions, ``TIMEOUT`` once ``deadline`` passes.  The
+    exhaustive searches that prove a model unsolvable need no order, so no costs either."""
+    deadline = deadline if deadline is not None else NO_DEADLINE
+    lay = _Layout(task, list(range(len(task.actions))))
+    goal_w, goal_possible = lay.goal(task.goal)
+    closed = _Closed()
+    layer = lay.state(task.init)
+    expanded = 0
+    while len(layer):
+        keys = lay.keys(layer)
+        fresh = _first_new(keys, closed)
+        layer, keys = layer[fresh], keys[fresh]
+        if not len(layer):
+            break
+        if goal_possible and ((layer & goal_w) == goal_w).all(axis=1).any():
+            return Status.PLAN
+        if node_limit is not None and expanded + len(layer) > node_limit:
+            return Status.LIMIT
+        closed.add(keys)
+        successors = []
+        for lo in range(0, len(layer), _CHUNK):
+            if deadline.expired():
+                return Status.TIMEOUT
+            succ = lay.successors(layer[lo : lo + _CHUNK])[2]
+            successors.append(succ[np.sort(np.unique(lay.keys(succ), return_index=True)[1])])
+        expanded += len(layer)
+        layer = np.concatenate(successors) if successors else layer[:0]
+    return Status.UNSOLVABLE

@@ -1,0 +1,129 @@
+"""The numpy uniform-cost search is the pure-Python one, only faster: same states, same order,
+same counts yielded, same answer (plan included), on random tasks with zero-cost actions,
+negative preconditions, atoms no action changes, node limits and states wider than a word."""
+
+from __future__ import annotations
+
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from mega_sat.ground.family import GroundTask, StripsAction
+from mega_sat.search import astar as astar_mod
+from mega_sat.search.astar import _python_uniform_cost_steps, _successor_groups
+from mega_sat.search.vector_search import goal_reachable, vector_uniform_cost_steps
+from mega_sat.status import Status
+
+
+def _run(steps):
+    yielded = []
+    try:
+        while True:
+            yielded.append(next(steps))
+    except StopIteration as done:
+        return done.value, yielded
+
+
+@st.composite
+def strips_tasks(draw) -> GroundTask:
+    """Random STRIPS tasks: a few 'mobile' atoms that actions toggle (so the state space is
+    rich), optionally padded past 64 atoms so states take two words."""
+    n = draw(st.integers(3, 9))
+    pad = draw(st.sampled_from([0, 0, 70]))
+    n_atoms = n + pad
+    atom_ids = st.integers(0, n - 1)
+    sets = st.frozensets(atom_ids, max_size=3)
+    acts = []
+    for i in range(draw(st.integers(1, 12))):
+        pre = draw(sets)
+        acts.append(
+            StripsAction(
+                i, f"a{i}", (), pre | draw(st.frozensets(st.integers(0, n_atoms - 1), max_size=1)),
+                draw(sets) - pre, draw(sets), draw(sets), draw(st.sampled_from([0, 1, 1, 2, 5])),
+            )
+        )  # fmt: skip
+    if pad:  # two actions that change all the padding atoms: states take two words
+        far = frozenset(range(n, n_atoms))
+        acts.append(StripsAction(len(acts), "out", (), frozenset({0}), frozenset(), far,
+                                 frozenset({0}), 1))  # fmt: skip
+        acts.append(StripsAction(len(acts), "back", (), frozenset({n_atoms - 1}), frozenset(),
+                                 frozenset({0}), far, 0))  # fmt: skip
+    init = draw(st.frozensets(st.integers(0, n_atoms - 1), max_size=n_atoms // 2 + 1))
+    goal = draw(st.frozensets(st.integers(0, n_atoms - 1), min_size=1, max_size=3))
+    atoms = tuple((f"p{i}",) for i in range(n_atoms))
+    return GroundTask(atoms, tuple(acts), init, goal)
+
+
+@settings(max_examples=300, deadline=None)
+@given(strips_tasks(), st.sampled_from([None, None, 0, 1, 3, 7]))
+def test_vector_search_is_the_python_search(task, node_limit):
+    init = sum(1 << p for p in task.init)
+    goal = sum(1 << p for p in task.goal)
+    order = [act[0] for _, acts in _successor_groups(task) for act in acts]
+    (py, py_counts) = _run(_python_uniform_cost_steps(task, init, goal, node_limit))
+    (vec, vec_counts) = _run(
+        vector_uniform_cost_steps(task, init, goal, node_limit, order=order, check_every=32)
+    )
+    assert vec == py
+    assert vec_counts == py_counts
+
+
+def _grid(width: int, zero_every: int) -> GroundTask:
+    """A width x width grid walk (one position atom per cell) plus 'coins' picked up on the
+    way, which multiplies the states; every ``zero_every``-th move costs nothing."""
+    cells = [(x, y) for x in range(width) for y in range(width)]
+    at = {c: i for i, c in enumerate(cells)}
+    coins = {c: len(cells) + k for k, c in enumerate(cells[1::3])}
+    acts = []
+    for (x, y), i in at.items():
+        for dx, dy in ((1, 0), (0, 1), (-1, 0), (0, -1)):
+            if (x + dx, y + dy) in at:
+                j = at[(x + dx, y + dy)]
+                cost = 0 if len(acts) % zero_every == 0 else 1 + len(acts) % 3
+                acts.append(StripsAction(len(acts), "move", (str(i), str(j)), frozenset({i}),
+                                         frozenset(), frozenset({j}), frozenset({i}), cost))  # fmt: skip
+        if (x, y) in coins:
+            k = coins[(x, y)]
+            acts.append(StripsAction(len(acts), "pick", (str(i),), frozenset({i}),
+                                     frozenset({k}), frozenset({k}), frozenset(), 1))  # fmt: skip
+    atoms = tuple((f"p{i}",) for i in range(len(cells) + len(coins)))
+    goal = frozenset({at[cells[-1]], *list(coins.values())[-3:]})
+    return GroundTask(atoms, tuple(acts), frozenset({0}), goal)
+
+
+def test_large_searches_agree_with_the_python_search_and_switch_over():
+    """Searches past ``_VECTOR_AFTER`` expansions, through the public generator (which moves to
+    numpy midway): the answer and every count yielded are the pure-Python search's."""
+    for width, zero_every in ((5, 4), (6, 7)):
+        task = _grid(width, zero_every)
+        init = sum(1 << p for p in task.init)
+        goal = sum(1 << p for p in task.goal)
+        py, py_counts = _run(_python_uniform_cost_steps(task, init, goal))
+        mixed, mixed_counts = _run(astar_mod.uniform_cost_steps(task, init, goal))
+        assert py[0] == Status.OPTIMAL and py[3] > astar_mod._VECTOR_AFTER
+        assert mixed == py and mixed_counts == py_counts
+        # unsolvable: the goal needs a coin that does not exist, after exhausting the space
+        dead = GroundTask(task.atoms + (("never",),), task.actions, task.init,
+                          task.goal | {len(task.atoms)})  # fmt: skip
+        py, py_counts = _run(_python_uniform_cost_steps(dead, init, goal | 1 << len(task.atoms)))
+        mixed, mixed_counts = _run(
+            astar_mod.uniform_cost_steps(dead, init, goal | 1 << len(task.atoms))
+        )
+        assert py[0] == Status.UNSOLVABLE and mixed == py and mixed_counts == py_counts
+
+
+@settings(max_examples=300, deadline=None)
+@given(strips_tasks(), st.sampled_from([None, None, 1, 4, 20]))
+def test_goal_reachable_agrees_with_search(task, node_limit):
+    """Reachability proves unsolvable exactly the tasks the search exhausts, within the same
+    number of expansions, and finds the goal exactly where there is a plan."""
+    init = sum(1 << p for p in task.init)
+    goal = sum(1 << p for p in task.goal)
+    full, _ = _run(_python_uniform_cost_steps(task, init, goal))
+    verdict = goal_reachable(task, node_limit=node_limit)
+    if full[0] == Status.OPTIMAL:
+        assert verdict in ((Status.PLAN, Status.LIMIT) if node_limit else (Status.PLAN,))
+    else:
+        exhausted = node_limit is None or full[3] <= node_limit
+        assert verdict == (Status.UNSOLVABLE if exhausted else Status.LIMIT)
+    if node_limit is None:
+        assert verdict == (Status.PLAN if full[0] == Status.OPTIMAL else Status.UNSOLVABLE)
