@@ -36,6 +36,17 @@ class Options:
         default=200_000,
         metadata={"doc": "nodes of the explicit search that answers past the horizon cap"},
     )
+    opt_reachability_steps: int = field(
+        default=32,
+        metadata={
+            "doc": "once SAT OPT finds no plan of this many steps (and knows none), it "
+            "tries to prove the model unsolvable by exhausting its reachable states"
+        },
+    )
+    opt_reachability_nodes: int = field(
+        default=2_000_000,
+        metadata={"doc": "states that reachability check of SAT OPT may expand"},
+    )
     solve_chunk: int = field(
         default=5000,
         metadata={"doc": "conflicts per SAT solve chunk (the deadline is checked between chunks)"},

@@ -66,6 +66,37 @@ def test_opt_matches_dijkstra_and_astar(options, fam: GroundFamily, data):
 
 
 @SETTINGS
+@given(fam=families(), data=st.data())
+def test_opt_reachability_proofs_match_dijkstra(fam: GroundFamily, data):
+    """OPT tries the reachability proof of unsolvability after its first horizon here: every
+    answer still matches Dijkstra (an unsolvable verdict only when there is no plan)."""
+    with SatOracles(fam, options=Options(opt_reachability_steps=1)) as orc:
+        for _ in range(3):
+            check_opt(fam, orc, data.draw(selections(fam.n_updates)))
+
+
+def test_opt_proves_a_large_model_unsolvable_by_reachability():
+    """blocksworld Delta20 p2 with update 18: no relaxation, pair or counting argument sees
+    that the goal is unreachable; exhausting the 887,291 reachable states does."""
+    from pathlib import Path
+
+    from mega_sat.ground.grounding import ground
+    from mega_sat.pddl.loading import load_task_dir
+
+    d = Path(__file__).resolve().parent.parent / "domains" / "blocksworld" / "delta" / "20" / "p2"
+    fam = ground(load_task_dir(d))
+    with SatOracles(fam, options=Options(opt_reachability_steps=1)) as orc:
+        r = orc.opt(frozenset({18}))
+        assert r.status == Status.UNSOLVABLE and r.exact and "no reachable state" in r.reason
+        assert orc.stats.opt_by_reachability == 1
+    # within too few states the check proves nothing: SAT carries on
+    with SatOracles(fam, options=Options(opt_reachability_nodes=1000)) as orc:
+        assert not orc.opt_oracle._unreachable(fam.specialize(frozenset({18})))
+        assert orc.stats.opt_by_reachability is None
+        assert 0 < orc.solving.side_work <= 1000  # the states it expanded count as work
+
+
+@SETTINGS
 @given(fam=families(min_cost=0), data=st.data())
 def test_opt_zero_cost_never_claims_a_false_proof(fam: GroundFamily, data):
     """With zero-cost actions the horizon argument fails: whatever is claimed exact is right,

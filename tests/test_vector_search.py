@@ -119,7 +119,9 @@ def test_goal_reachable_agrees_with_search(task, node_limit):
     init = sum(1 << p for p in task.init)
     goal = sum(1 << p for p in task.goal)
     full, _ = _run(_python_uniform_cost_steps(task, init, goal))
-    verdict = goal_reachable(task, node_limit=node_limit)
+    verdict, expanded = goal_reachable(task, node_limit=node_limit)
+    if verdict == Status.UNSOLVABLE:
+        assert expanded == full[3]  # every reachable state, once
     if full[0] == Status.OPTIMAL:
         assert verdict in ((Status.PLAN, Status.LIMIT) if node_limit else (Status.PLAN,))
     else:

@@ -112,7 +112,7 @@ def unsolvable_core(
         if searches.expired():
             short[0] += 1
             return False
-        verdict = goal_reachable(abstraction, node_limit=node_limit, deadline=searches)
+        verdict, _ = goal_reachable(abstraction, node_limit=node_limit, deadline=searches)
         short[0] += verdict in (Status.LIMIT, Status.TIMEOUT)
         return verdict == Status.UNSOLVABLE
 

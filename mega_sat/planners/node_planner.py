@@ -243,7 +243,13 @@ class NodePlanner:
                     raise
             finally:
                 solving.stop_probe = None
-            if r is not None and r.status.decided and not search_wins():
+            # "no plan" is the same answer whoever proves it: no need to wait for the search
+            # to catch up in work and see whether it would have said so first
+            if (
+                r is not None
+                and r.status.decided
+                and (r.status == Status.UNSOLVABLE or not search_wins())
+            ):
                 self._first = "sat"
                 return PlanResult(
                     r.status, r.plan, r.cost, r.exact, "sat", time.perf_counter() - t0, r.reason

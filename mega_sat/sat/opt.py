@@ -29,6 +29,7 @@ from mega_sat.search.answers import OptResult
 from mega_sat.search.astar import astar
 from mega_sat.search.lowered_cost import extra_cost_search
 from mega_sat.search.plan_reduction import reduce_plan
+from mega_sat.search.vector_search import goal_reachable
 from mega_sat.status import Status
 
 if TYPE_CHECKING:
@@ -192,6 +193,7 @@ class OptOracle:
             solving.check()
         cap = self.options.horizon_cap
         h = min(max(lb_steps, 1), cap)
+        reach_tried = False
         while plan is None:
             calls += 1
             if solving.solve(solver, sel_lits + orc.goal_assumptions(enc, h)):
@@ -199,6 +201,13 @@ class OptOracle:
                 break
             if h >= cap:
                 break
+            if not reach_tried and h >= self.options.opt_reachability_steps:
+                reach_tried = True
+                if self._unreachable(task):
+                    return done(
+                        Status.UNSOLVABLE, None, None, True,
+                        f"no plan within {h} steps, and no reachable state satisfies the goal",
+                    )  # fmt: skip
             h = min(2 * h, cap)
         if plan is None:
             return self._fallback(task, calls, t0)
@@ -277,6 +286,28 @@ class OptOracle:
             if c is not None and (best is None or c < best[0]):
                 best = (c, plan)
         return None if best is None else best[1]
+
+    def _unreachable(self, task: GroundTask) -> bool:
+        """Whether exhausting the reachable states of ``task`` (at most
+        ``opt_reachability_nodes``) proves it unsolvable.  Asked once per call, when SAT has
+        found no plan within ``opt_reachability_steps`` steps: an unsolvable model has no
+        horizon that proves it, and its SAT calls grow harder up to the cap.  The states count
+        as this side's work for the portfolio's referee."""
+        solving = self.orc.solving
+        t0 = time.perf_counter()
+        verdict, expanded = goal_reachable(
+            task, node_limit=self.options.opt_reachability_nodes, deadline=solving.effective()
+        )
+        solving.side_work += expanded
+        stats = self.stats
+        stats.search_time_s = add_seconds(stats.search_time_s, time.perf_counter() - t0)
+        if verdict == Status.TIMEOUT:
+            raise OracleInterrupted("deadline reached")
+        if verdict == Status.UNSOLVABLE:  # the answer; the referee need not weigh it
+            stats.opt_by_reachability = bump(stats.opt_by_reachability)
+            return True
+        solving.check()
+        return False
 
     # ------------------------------------------------------ past the horizon cap
     def _blind_search(self, task: GroundTask, *, timed: bool):

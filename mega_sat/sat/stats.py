@@ -47,6 +47,7 @@ class OracleStats:
     step_queries: int | None = None
     step_bounds: int | None = None
     opt_by_search: int | None = None
+    opt_by_reachability: int | None = None
     joint_hint_used: int | None = None
     joint_by_dominance: int | None = None
     joint_core_reused: int | None = None

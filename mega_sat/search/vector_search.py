@@ -224,9 +224,9 @@ def vector_uniform_cost_steps(
 
 def goal_reachable(
     task: GroundTask, *, node_limit: int | None = None, deadline: Deadline | None = None
-) -> Status:
-    """Whether any state of ``task`` satisfies its goal, by breadth-first reachability on numpy
-    layers, costs ignored: ``PLAN`` once a reached state satisfies the goal, ``UNSOLVABLE`` once
+) -> tuple[Status, int]:
+    """Whether any state of ``task`` satisfies its goal, and the states expanded to find out,
+    by breadth-first reachability on numpy layers, costs ignored: ``PLAN`` once a reached state satisfies the goal, ``UNSOLVABLE`` once
     every reachable state is expanded (a proof that ``task`` has no plan), ``LIMIT`` when that
     would take more than ``node_limit`` expansions, ``TIMEOUT`` once ``deadline`` passes.  The
     exhaustive searches that prove a model unsolvable need no order, so no costs either."""
@@ -243,16 +243,16 @@ def goal_reachable(
         if not len(layer):
             break
         if goal_possible and ((layer & goal_w) == goal_w).all(axis=1).any():
-            return Status.PLAN
+            return Status.PLAN, expanded
         if node_limit is not None and expanded + len(layer) > node_limit:
-            return Status.LIMIT
+            return Status.LIMIT, expanded
         closed.add(keys)
         successors = []
         for lo in range(0, len(layer), _CHUNK):
             if deadline.expired():
-                return Status.TIMEOUT
+                return Status.TIMEOUT, expanded
             succ = lay.successors(layer[lo : lo + _CHUNK])[2]
             successors.append(succ[np.sort(np.unique(lay.keys(succ), return_index=True)[1])])
         expanded += len(layer)
         layer = np.concatenate(successors) if successors else layer[:0]
-    return Status.UNSOLVABLE
+    return Status.UNSOLVABLE, expanded
