@@ -93,7 +93,7 @@ def test_opt_proves_a_large_model_unsolvable_by_reachability():
     with SatOracles(fam, options=Options(opt_reachability_nodes=1000)) as orc:
         assert not orc.opt_oracle._unreachable(fam.specialize(frozenset({18})))
         assert orc.stats.opt_by_reachability is None
-        assert 0 < orc.solving.side_work <= 1000  # the states it expanded count as work
+        assert orc.solving.side_work == 0  # nor does the referee count its states
 
 
 @SETTINGS

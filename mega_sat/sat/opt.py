@@ -291,14 +291,15 @@ class OptOracle:
         """Whether exhausting the reachable states of ``task`` (at most
         ``opt_reachability_nodes``) proves it unsolvable.  Asked once per call, when SAT has
         found no plan within ``opt_reachability_steps`` steps: an unsolvable model has no
-        horizon that proves it, and its SAT calls grow harder up to the cap.  The states count
-        as this side's work for the portfolio's referee."""
+        horizon that proves it, and its SAT calls grow harder up to the cap.  Its states do
+        not count as work for the portfolio's referee: a proof ends the call at once (the
+        answer is the same whoever gives it), and a check that proves nothing should not make
+        the referee wait for the search to catch up with it."""
         solving = self.orc.solving
         t0 = time.perf_counter()
-        verdict, expanded = goal_reachable(
+        verdict, _ = goal_reachable(
             task, node_limit=self.options.opt_reachability_nodes, deadline=solving.effective()
         )
-        solving.side_work += expanded
         stats = self.stats
         stats.search_time_s = add_seconds(stats.search_time_s, time.perf_counter() - t0)
         if verdict == Status.TIMEOUT:
