@@ -21,6 +21,7 @@ so most tasks here fit one 64-bit word per state.
 from __future__ import annotations
 
 import heapq
+from collections.abc import Callable
 
 import numpy as np
 
@@ -97,11 +98,13 @@ class _Layout:
         return np.array([_words([p for p in atoms if p in self.pos], self.pos, self.n_words)],
                         dtype=np.uint64)  # fmt: skip
 
-    def goal(self, goal_atoms) -> tuple[np.ndarray, bool]:
-        """The goal's words, and whether it can hold at all (a goal atom no action changes
-        must be true initially)."""
-        possible = all(p in self.pos or p in self.init_set for p in goal_atoms)
-        return self.state(goal_atoms)[0], possible
+    def goal_rows(self, goal_atoms) -> Callable[[np.ndarray], np.ndarray]:
+        """A test giving the rows of a layer that satisfy the goal (none ever, when a goal
+        atom no action changes is false initially)."""
+        if not all(p in self.pos or p in self.init_set for p in goal_atoms):
+            return lambda states: np.empty(0, dtype=np.int64)
+        goal = self.state(goal_atoms)[0]
+        return lambda states: np.flatnonzero(((states & goal) == goal).all(axis=1))
 
     def keys(self, states: np.ndarray) -> np.ndarray:
         """Exact sortable keys: the word itself, or the row's bytes for wider states."""
@@ -146,7 +149,7 @@ def vector_uniform_cost_steps(
     if order is None:
         order = list(range(len(task.actions)))
     lay = _Layout(task, order)
-    goal_w, goal_possible = lay.goal([p for p in range(len(task.atoms)) if goal >> p & 1])
+    at_goal = lay.goal_rows([p for p in range(len(task.atoms)) if goal >> p & 1])
     closed = _Closed()
     # what the plan is read back from: per closed state id, its parent's id and action
     parents: list[np.ndarray] = []
@@ -181,10 +184,8 @@ def vector_uniform_cost_steps(
             if not len(states):
                 break
             n = len(states)
-            at_goal = (
-                np.flatnonzero(((states & goal_w) == goal_w).all(axis=1)) if goal_possible else ()
-            )
-            stop = int(at_goal[0]) if len(at_goal) else n
+            reached = at_goal(states)
+            stop = int(reached[0]) if len(reached) else n
             room = n if node_limit is None else max(node_limit - expanded, 0)
             # pop by pop, the pure-Python search tests the goal, then the node limit, then
             # yields every check_every pops: k pops pass both tests here
@@ -232,7 +233,7 @@ def goal_reachable(
     exhaustive searches that prove a model unsolvable need no order, so no costs either."""
     deadline = deadline if deadline is not None else NO_DEADLINE
     lay = _Layout(task, list(range(len(task.actions))))
-    goal_w, goal_possible = lay.goal(task.goal)
+    at_goal = lay.goal_rows(task.goal)
     closed = _Closed()
     layer = lay.state(task.init)
     expanded = 0
@@ -242,7 +243,7 @@ def goal_reachable(
         layer, keys = layer[fresh], keys[fresh]
         if not len(layer):
             break
-        if goal_possible and ((layer & goal_w) == goal_w).all(axis=1).any():
+        if len(at_goal(layer)):
             return Status.PLAN, expanded
         if node_limit is not None and expanded + len(layer) > node_limit:
             return Status.LIMIT, expanded
