@@ -16,7 +16,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from mega_sat.deadline import Deadline
-from mega_sat.ground.family import GroundAction, GroundFamily
+from mega_sat.ground.family import GroundAction, GroundFamily, holds
 from mega_sat.options import Options
 from mega_sat.sat.oracles import JointResult, OptResult, SatOracles
 from mega_sat.status import Status
@@ -317,8 +317,10 @@ def test_interrupt_and_deadline_leave_oracles_usable():
         assert orc.joint(frozenset(), None, 6).robot_cost == 6
         orc.interrupt()
         with pytest.raises(OracleInterrupted):
-            orc.joint(frozenset(), None, 5)
+            orc.joint(frozenset(), None, 6)
+        # below the robot optimum at equal costs: answered without a SAT call
         assert orc.joint(frozenset(), None, 5).core == frozenset()
+        assert orc.joint(frozenset(), None, 6).robot_cost == 6
         assert orc.opt(frozenset()).cost == 6
         orc.deadline = Deadline(time.perf_counter() + 60)  # a far deadline changes nothing
         assert orc.joint(frozenset(), None, 6).status == "plan"
@@ -455,6 +457,81 @@ def test_joint_below_the_human_optimum_under_dominance_has_sound_cores(fam, data
             again = orc.joint(other, rb, c_other, human_lower_bound=c_other)
             assert again.status == "infeasible" and again.core == r.core and again.calls == 0
             assert orc.stats.joint_core_reused == 1
+
+
+def _cost_updates(fam: GroundFamily, data) -> GroundFamily:
+    """``fam`` with some actions' costs under an update that makes them cheaper, dearer or
+    no different for the human than for the robot (random cost cases rarely differ so)."""
+    from dataclasses import replace
+
+    if fam.n_updates == 0:
+        return fam
+    acts = []
+    for a in fam.actions:
+        if data.draw(st.booleans()):
+            i = data.draw(st.integers(0, fam.n_updates - 1))
+            base = data.draw(st.integers(1, 3))
+            other = max(1, base + data.draw(st.integers(-1, 2)))
+            robot_has = i in fam.robot_selection
+            a = replace(a, cost=((((i, robot_has),), base), (((i, not robot_has),), other)))
+        acts.append(a)
+    return replace(fam, actions=tuple(acts))
+
+
+def _reachable_robot_goal(fam: GroundFamily, data) -> GroundFamily:
+    """``fam`` with an unguarded goal: the atoms of a state the robot model reaches, so that
+    most drawn families have a robot plan (random goals mostly have none)."""
+    from dataclasses import replace
+
+    from helpers.sat_families import _succ
+
+    task = fam.specialize(fam.robot_selection)
+    seen, todo = {frozenset(task.init)}, [frozenset(task.init)]
+    while todo:
+        for _, s2 in _succ(task, todo.pop()):
+            if s2 not in seen:
+                seen.add(s2)
+                todo.append(s2)
+    others = sorted((s for s in seen if not s <= task.init), key=sorted)
+    if not others:
+        return fam
+    target = data.draw(st.sampled_from(others))
+    return replace(fam, goal=tuple((i, None) for i in sorted(target)))
+
+
+@SETTINGS
+@given(fam=families(max_atoms=3, max_actions=5, max_updates=4), data=st.data())
+def test_joint_below_the_robot_optimum_under_human_dominance_has_sound_cores(fam, data):
+    """A human bound below the robot optimum, where no action of the robot model costs the
+    human less than the robot, is infeasible without SAT, with a core of cost literals under
+    which that dominance holds in every agreeing selection (so none has a joint plan within
+    the bound either); the shortcut is taken exactly when the selection has that dominance."""
+    fam = _reachable_robot_goal(_cost_updates(fam, data), data)
+    sel = data.draw(selections(fam.n_updates))
+    c_robot = dijkstra(fam.specialize(fam.robot_selection))
+    if c_robot is None or c_robot == 0:
+        return
+    hb = data.draw(st.integers(0, c_robot + 1))
+    robot = fam.robot_selection
+    robot_actions = [a for a in fam.actions if a.exists is None or holds(a.exists, robot)]
+
+    def dominated_in(o: frozenset[int]) -> bool:
+        return all(a.cost_in(o) >= a.cost_in(robot) for a in robot_actions)
+
+    dominated = dominated_in(sel) and hb < c_robot
+    with SatOracles(fam) as orc:
+        r = orc.joint(sel, None, hb, robot_lower_bound=c_robot)
+        assert (orc.stats.joint_by_human_dominance == 1) == dominated
+        assert r.exact and (r.status == "infeasible") == (joint_brute(fam, sel, None, hb) is None)
+        if dominated:
+            assert r.status == "infeasible"
+            assert r.calls == 0
+            cost_updates = {i for a in fam.actions for g, _ in a.cost for i, _ in g}
+            assert {i for i, _ in r.core} <= cost_updates
+            assert all(dominated_in(o) for o in agreeing(r.core, fam.n_updates))
+        if r.status == "infeasible":
+            for other in agreeing(r.core, fam.n_updates):
+                assert joint_brute(fam, other, None, hb) is None
 
 
 def test_joint_by_dominance_on_barman():

@@ -130,6 +130,16 @@ class JointOracle:
                 core=frozenset(),
                 why=f"robot cost bound {robot_bound} < robot lower bound {rlb}",
             )
+        if human_bound < rlb:
+            core = self.human_dominance_core(lits)
+            if core is not None:
+                self.stats.joint_by_human_dominance = bump(self.stats.joint_by_human_dominance)
+                return done(
+                    Status.INFEASIBLE,
+                    core=core,
+                    why=f"human cost bound {human_bound} < robot lower bound {rlb}, and no "
+                    "action costs the human less than the robot",
+                )
         if not exact and orc.c_min > 0 and sel is not None:
             return self._by_search(sel, robot_bound, human_bound, reason, t0)
         sel_lits = enc.lits_assumptions(lits)
@@ -257,6 +267,39 @@ class JointOracle:
             if any(v > rc for _, v in a.cost):
                 return False
         return True
+
+    @cached_property
+    def _cheaper_for_human(self) -> tuple[tuple[GuardLit, ...], ...]:
+        """The guards of every cost case in which an action of the robot model costs the
+        human less than it costs the robot."""
+        family = self.orc.family
+        robot = family.robot_selection
+        out = []
+        for a in family.actions:
+            if holds(a.exists, robot):
+                rc = a.cost_in(robot)
+                out.extend(guards for guards, v in a.cost if v < rc)
+        return tuple(out)
+
+    def human_dominance_core(self, lits: Sequence[GuardLit]) -> frozenset[GuardLit] | None:
+        """Literals of ``lits`` under which no action of the robot model costs the human less
+        than the robot, or ``None`` if ``lits`` do not ensure that.
+
+        Under them every joint plan's human cost is at least its robot cost, whatever the
+        other updates are: each cost case cheaper for the human is ruled out by one literal
+        that contradicts one of its guards."""
+        assigned = dict(lits)
+        core: set[GuardLit] = set()
+        for guards in self._cheaper_for_human:
+            if any((i, not v) in core for i, v in guards):
+                continue
+            for i, v in guards:
+                if i in assigned and assigned[i] != v:
+                    core.add((i, assigned[i]))
+                    break
+            else:
+                return None  # this case can apply in a model agreeing with lits
+        return frozenset(core)
 
     def robot_dominates(self, sel: frozenset[int]) -> bool:
         """Whether no action usable by a joint plan costs less in the robot model than in

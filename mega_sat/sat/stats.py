@@ -50,6 +50,7 @@ class OracleStats:
     opt_by_reachability: int | None = None
     joint_hint_used: int | None = None
     joint_by_dominance: int | None = None
+    joint_by_human_dominance: int | None = None
     joint_core_reused: int | None = None
     joint_by_search: int | None = None
 
