@@ -147,3 +147,22 @@ def test_declared_dependencies_match_the_imports():
     # every import is declared, core or extra; every core dependency is imported
     assert imported - declared - extras == set()
     assert declared - imported == set()
+
+
+def test_a_small_frontier_imports_neither_numpy_nor_pulp():
+    """numpy (about 60 ms to import) and PuLP (about 35 ms) are imported by the code that
+    needs them, so a task that needs neither starts as fast as the A* baseline."""
+    import subprocess
+    import sys
+
+    task = PACKAGE.parent / "domains" / "usar-fetch" / "delta" / "2" / "p2"
+    code = (
+        "import sys\n"
+        "from mega_sat.api import MegaSolver\n"
+        "from mega_sat.pddl.loading import load_task_dir\n"
+        f"f = MegaSolver(load_task_dir({str(task)!r})).frontier()\n"
+        "assert f.exact and f.points, f\n"
+        "print(sorted(m for m in ('numpy', 'pulp') if m in sys.modules))\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "[]"

@@ -34,10 +34,6 @@ class CountingBounds:
         self.enabled = enabled
         self.solving = solving
         self.stats = stats
-        if enabled:
-            # PuLP's import is a once-per-process set-up cost, paid here with the rest of the
-            # set-up rather than inside whichever OPT call first needs a bound
-            import pulp  # noqa: F401
         self._cache: dict[frozenset[GuardLit], float | None] = {}
         self._tries = 0
         self._gains = 0

@@ -30,7 +30,7 @@ from mega_sat.ground.family import GroundFamily, Guard, GuardLit
 from mega_sat.model.lifted import PlanStep, step_str
 from mega_sat.sat.cost_bounds import CostBounds
 from mega_sat.sat.ordering import StepOrdering
-from mega_sat.sat.symmetry import object_swaps
+from mega_sat.sat.symmetry import Swap, object_swaps
 
 HUMAN = "human"
 ROBOT = "robot"
@@ -95,6 +95,7 @@ class FamilyEncoding(StepOrdering, CostBounds):
         invariants: bool | EncodingFacts | Callable[[], EncodingFacts] = True,
         symmetry: bool = True,
         unary_max_units: int = UNARY_MAX_UNITS,
+        swaps: Sequence[Swap] | None = None,
     ):
         if (
             not copies
@@ -153,7 +154,11 @@ class FamilyEncoding(StepOrdering, CostBounds):
         self.irrelevant: tuple[int, ...] = ()
         # object swaps (mega_sat/sat/symmetry.py): keep only plans pi <=lex swap(pi); lex[s][t]
         # says "the actions before step t are all fixed by swap s" (exact both ways)
-        self.swaps = object_swaps(family) if symmetry and symmetry_breaking else []
+        # (``swaps``: the family's swaps when the caller has them, for two encodings of it)
+        if not (symmetry and symmetry_breaking):
+            self.swaps = []
+        else:
+            self.swaps = list(object_swaps(family) if swaps is None else swaps)
         self._lex: list[list[int]] = []
         for _ in self.swaps:
             v = self._alloc(1) + 1

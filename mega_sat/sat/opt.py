@@ -29,7 +29,6 @@ from mega_sat.search.answers import OptResult
 from mega_sat.search.astar import astar
 from mega_sat.search.lowered_cost import extra_cost_search
 from mega_sat.search.plan_reduction import reduce_plan
-from mega_sat.search.vector_search import goal_reachable
 from mega_sat.status import Status
 
 if TYPE_CHECKING:
@@ -295,6 +294,9 @@ class OptOracle:
         not count as work for the portfolio's referee: a proof ends the call at once (the
         answer is the same whoever gives it), and a check that proves nothing should not make
         the referee wait for the search to catch up with it."""
+        # numpy's import (about 60 ms) is paid only by the runs that need the proof
+        from mega_sat.search.vector_search import goal_reachable
+
         solving = self.orc.solving
         t0 = time.perf_counter()
         verdict, _ = goal_reachable(

@@ -34,6 +34,7 @@ from mega_sat.sat.observer import OracleCall, OracleObserver
 from mega_sat.sat.opt import OptOracle
 from mega_sat.sat.solving import CADICAL_OPTIONS, OracleInterrupted, Solving, new_solver
 from mega_sat.sat.stats import OracleStats
+from mega_sat.sat.symmetry import object_swaps
 from mega_sat.search.answers import JointResult, OptResult
 
 __all__ = [
@@ -81,6 +82,7 @@ class SatOracles:
         self._max_horizon: int | None = None
         # (K, core): no selection agreeing with core has a plan of human cost <= K
         self.cost_cores: list[tuple[int, frozenset[GuardLit]]] = []
+        swaps = object_swaps(family) if symmetry_breaking else []  # shared by both encodings
         self.opt_enc = FamilyEncoding(
             family,
             self.solving.opt_solver.add_clause,
@@ -89,6 +91,7 @@ class SatOracles:
             partial_order=options.partial_order,
             invariants=self._facts,
             unary_max_units=unary_max_units,
+            swaps=swaps,
         )
         self.joint_enc = FamilyEncoding(
             family,
@@ -98,6 +101,7 @@ class SatOracles:
             partial_order=options.partial_order,
             invariants=self._facts,
             unary_max_units=unary_max_units,
+            swaps=swaps,
         )
         self.opt_oracle = OptOracle(self)
         self.joint_oracle = JointOracle(self)
