@@ -81,6 +81,14 @@ class Options:
             "in index order); off: its role variables and clauses grow every step"
         },
     )
+    plan_below_robot_conflicts: int = field(
+        default=10_000,
+        metadata={
+            "doc": "conflicts of the SAT call that looks for a human plan cheaper than the "
+            "robot optimum, which rules a model out without OPT when no action costs the "
+            "human less than the robot (0: never)"
+        },
+    )
     dominance_trial_conflicts: int = field(
         default=300,
         metadata={"doc": "conflicts of the short SAT call that first tries a dominance-core trial"},

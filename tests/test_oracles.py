@@ -459,6 +459,30 @@ def test_joint_below_the_human_optimum_under_dominance_has_sound_cores(fam, data
             assert orc.stats.joint_core_reused == 1
 
 
+@SETTINGS
+@given(fam=families(max_atoms=3, max_actions=5, max_updates=4), data=st.data())
+def test_plan_within_finds_a_plan_iff_one_exists_and_keeps_sound_cost_cores(fam, data):
+    """``plan_within`` (no budget) returns a valid plan within the bound exactly when the
+    model has one; a "none" it proves is kept as a cost core that every agreeing model obeys."""
+    fam = _reachable_robot_goal(fam, data)
+    sel = data.draw(selections(fam.n_updates))
+    task = fam.specialize(sel)
+    best = dijkstra(task)
+    bound = data.draw(st.integers(0, 6))
+    with SatOracles(fam) as orc:
+        got = orc.plan_within(sel, bound, None)
+        if best is None or best > bound:
+            assert got is None
+            assert len(orc.cost_cores) == 1 and orc.cost_cores[0][0] == bound
+            for other in agreeing(orc.cost_cores[0][1], fam.n_updates):
+                c = dijkstra(fam.specialize(other))
+                assert c is None or c > bound
+        else:
+            plan, cost = got
+            assert plan_cost(task, plan) == cost and best <= cost <= bound
+            assert orc.cost_cores == []
+
+
 def _cost_updates(fam: GroundFamily, data) -> GroundFamily:
     """``fam`` with some actions' costs under an update that makes them cheaper, dearer or
     no different for the human than for the robot (random cost cases rarely differ so)."""

@@ -228,6 +228,22 @@ def sat_frontier(
         stats["joint_calls"] += 1
         return res
 
+    def plan_below_robot(sel, known: Bounds) -> Bounds:
+        """``known`` with a plan of ``human + sel`` cheaper than the robot optimum, when one
+        is found and no action costs this model's human less than the robot: JOINT at its
+        cost then rules ``sel`` out without SAT and without OPT (encodings/hitting-set.md)."""
+        budget = options.plan_below_robot_conflicts
+        if (
+            budget <= 0
+            or robot_lb is None
+            or known.lower >= robot_lb
+            or (known.upper is not None and known.upper < robot_lb)
+            or orc.joint_oracle.human_dominance_core([(i, i in sel) for i in all_updates]) is None
+        ):
+            return known
+        got = orc.plan_within(sel, robot_lb - 1, budget)
+        return known if got is None else Bounds(known.lower, got[0], got[1])
+
     def learn_core(sel, res, plan) -> None:
         """Learn NOT(sel on core ∪ causal support of ``plan``), ``plan`` a plan of
         ``human + sel`` whose cost was JOINT's human bound (encodings/hitting-set.md)."""
@@ -241,6 +257,7 @@ def sat_frontier(
         on = {i for i, _ in res.core} | {i for i, _ in causal_support(family, sel, plan)}
         _learn(hs, exclusion_clause(sel, on), stats)
 
+    all_updates = range(len(task.delta))
     progress.stats = stats
     try:
         while True:
@@ -271,6 +288,7 @@ def sat_frontier(
                     if not isinstance(known, Bounds):
                         opt = known
                     else:
+                        known = plan_below_robot(sel, known)
                         if known.plan is not None:
                             r = joint_of(
                                 sel,

@@ -33,9 +33,10 @@ from mega_sat.sat.joint import JointOracle
 from mega_sat.sat.observer import OracleCall, OracleObserver
 from mega_sat.sat.opt import OptOracle
 from mega_sat.sat.solving import CADICAL_OPTIONS, OracleInterrupted, Solving, new_solver
-from mega_sat.sat.stats import OracleStats
+from mega_sat.sat.stats import OracleStats, add_seconds, bump
 from mega_sat.sat.symmetry import object_swaps
 from mega_sat.search.answers import JointResult, OptResult
+from mega_sat.search.plan_reduction import reduce_plan
 
 __all__ = [
     "CADICAL_OPTIONS",
@@ -151,6 +152,40 @@ class SatOracles:
             return self.opt_oracle.opt(sel)
         call = OracleCall("opt", selection=sel, cached=self.opt_oracle.cached(sel) is not None)
         return self._observed(call, lambda: self.opt_oracle.opt(sel))
+
+    def plan_within(
+        self, selection: Iterable[int], bound: int, budget: int
+    ) -> tuple[tuple[PlanStep, ...], int] | None:
+        """A plan of ``human + selection`` costing at most ``bound`` and its cost, by one SAT
+        call of at most ``budget`` conflicts on the OPT solver at the family-wide horizon for
+        ``bound``; ``None`` when there is none or the budget ran out.  A proven "none" is
+        kept as a cost core (a lower bound for later OPT calls), as in
+        :meth:`mega_sat.sat.cores.CoreShrinker.by_dominance`."""
+        sel = frozenset(selection)
+        enc, solver = self.opt_enc, self.solving.opt_solver
+        h, exact, _ = self.joint_oracle.horizon(None, bound)
+        cost_lits = enc.cost_assumptions(HUMAN, bound, h)
+        if cost_lits is None:
+            return None
+        lits = [(i, i in sel) for i in range(self.family.n_updates)]
+        t0 = time.perf_counter()
+        ok = self.solving.solve(
+            solver, cost_lits + self.goal_assumptions(enc, h) + enc.lits_assumptions(lits), budget
+        )
+        self.stats.plan_within_calls = bump(self.stats.plan_within_calls)
+        self.stats.plan_within_time_s = add_seconds(
+            self.stats.plan_within_time_s, time.perf_counter() - t0
+        )
+        if ok is False and exact:
+            got = set(solver.get_core() or [])
+            self.cost_cores.append((bound, frozenset(g for g in lits if enc.guard_lit(g) in got)))
+        if not ok:
+            return None
+        task = self.task(sel)
+        plan, cost = reduce_plan(task, enc.decode_plan(solver.get_model(), h))
+        assert cost is not None and cost <= bound, "decoded plan invalid or too dear: bug"
+        self.stats.plan_within_found = bump(self.stats.plan_within_found)
+        return plan, cost
 
     def joint(
         self,

@@ -53,6 +53,9 @@ class OracleStats:
     joint_by_human_dominance: int | None = None
     joint_core_reused: int | None = None
     joint_by_search: int | None = None
+    plan_within_calls: int | None = None
+    plan_within_found: int | None = None
+    plan_within_time_s: float | None = None
 
     def __setattr__(self, name: str, value: object) -> None:
         if value is not None and name in _OPTIONAL and getattr(self, name, None) is None:
