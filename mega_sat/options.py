@@ -136,15 +136,11 @@ class Options:
         default=0.05,
         metadata={"doc": "seconds those searches get at least, however fast OPT was"},
     )
-    unsolvable_core_nodes: int = field(
-        default=2000,
-        metadata={"doc": "nodes of each of those searches (one per update tried)"},
-    )
-    core_budget_growth: int = field(
-        default=32,
+    unsolvable_core_states: int = field(
+        default=100_000,
         metadata={
-            "doc": "the largest factor by which those nodes and seconds grow while searches "
-            "keep running out of them (they double per such core, halve per core without)"
+            "doc": "states the may-reachability proof of those searches may hold; past that "
+            "only the relaxed and pair proofs shrink the exclusion"
         },
     )
     portfolio_conflicts: int = field(

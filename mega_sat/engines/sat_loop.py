@@ -85,8 +85,8 @@ def sat_frontier(
     undecided).  All three are exact.  ``None``: :func:`default_joint`.
 
     OPT goes through :class:`mega_sat.planners.tiered_opt.TieredOpt` (cheap proofs first,
-    ``planner`` last).  Unsolvable candidate models are generalised by searches on
-    abstractions for up to ``options.core_search_factor`` times the time OPT took to prove
+    ``planner`` last).  Unsolvable candidate models are generalised by relaxed, pair and
+    may-reachability proofs (:func:`mega_sat.engines.support.unsolvable_core`) for up to ``options.core_search_factor`` times the time OPT took to prove
     them unsolvable.  ``options`` holds every tuning knob (:class:`mega_sat.options.Options`).
 
     ``oracles``: live SAT oracles of ``family``, which the caller has given the same
@@ -173,12 +173,12 @@ def sat_frontier(
         "learned": 0,
         "learned_literals": 0,
         "unsolvable_models": 0,
+        "unsolvable_core_cut_short": 0,
         "joint_searches": 0,
         "joint_before_opt_cores": 0,
         "joint_before_opt_plans": 0,
     }
     budget = _Budget(joint_conflict_budget, options)
-    core_budget = _CoreBudget(options)
     _searcher = []
 
     def searcher() -> JointSearcher:
@@ -332,13 +332,14 @@ def sat_frontier(
                         family,
                         sel,
                         search_seconds=max(
-                            core_budget.seconds, options.core_search_factor * opt.time_s
+                            options.unsolvable_core_min_seconds,
+                            options.core_search_factor * opt.time_s,
                         ),
-                        node_limit=core_budget.nodes,
+                        state_limit=options.unsolvable_core_states,
                         deadline=deadline,
                         cut_short=short,
                     )
-                    core_budget.update(short[0] if short else 0)
+                    stats["unsolvable_core_cut_short"] += sum(short)
                 else:
                     exact = False
                     notes.append(f"OPT undecided for a model with |E|={len(sel)}: {opt.reason}")
@@ -429,7 +430,6 @@ def sat_frontier(
             "hitting_set": hitting_set,
             "joint": joint,
             "joint_conflict_budget_final": budget.conflicts,
-            "unsolvable_core_nodes_final": core_budget.nodes,
             "hitting_set_calls": hs.calls,
             **orc.stats.as_dict(),
         },
@@ -463,39 +463,6 @@ class _Budget:
             self.conflicts = max(self.low, self.conflicts // 2)
         else:
             self.conflicts = min(self.high, self.conflicts * 2)
-
-
-class _CoreBudget:
-    """The search effort that shrinks each unsolvable model's exclusion clause.
-
-    It starts at ``options.unsolvable_core_nodes`` nodes per trial and
-    ``unsolvable_core_min_seconds`` per core, doubles both after a core where some search ran
-    out of them (a longer one might have dropped the update, and a larger clause rules out
-    fewer models, so the loop meets more of them), up to ``core_budget_growth`` times the
-    start, and halves them after a core whose searches all finished.  The clauses are sound
-    at any budget; only their size changes.
-    """
-
-    def __init__(self, options: Options = DEFAULT):
-        self.base_nodes, self.base_seconds = (
-            options.unsolvable_core_nodes,
-            options.unsolvable_core_min_seconds,
-        )
-        self.factor, self.growth = 1, max(1, options.core_budget_growth)
-
-    @property
-    def nodes(self) -> int:
-        return self.base_nodes * self.factor
-
-    @property
-    def seconds(self) -> float:
-        return self.base_seconds * self.factor
-
-    def update(self, cut_short: int) -> None:
-        if cut_short:
-            self.factor = min(self.growth, self.factor * 2)
-        else:
-            self.factor = max(1, self.factor // 2)
 
 
 def _learn(hs, clause, stats) -> None:

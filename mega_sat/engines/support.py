@@ -76,7 +76,7 @@ def unsolvable_core(
     selection: frozenset[int],
     *,
     search_seconds: float = 0.0,
-    node_limit: int = 2_000,
+    state_limit: int = 100_000,
     deadline: Deadline | None = None,
     cut_short: list[int] | None = None,
 ) -> frozenset[int] | None:
@@ -85,34 +85,47 @@ def unsolvable_core(
     updates" can be shown.
 
     Deletion from all updates: an update is dropped when the model stays unsolvable with it
-    free.  Three proofs are tried: relaxed reachability of the most permissive model and h^2
-    pair reachability of the abstraction with the update free (both cheap), then an exhaustive
-    search of the abstraction with the update free
-    (:func:`mega_sat.analysis.abstraction.abstract_task`), of at most ``node_limit`` expansions
-    each and ``search_seconds`` in all; a search cut short proves nothing and keeps the update.
-    Once ``deadline`` has passed no search runs and no update is tried any more: the updates
-    not yet dropped stay in ``S``, which is still sound, only larger.  ``cut_short`` (a list)
-    receives the number of trials whose search ran out of nodes or seconds.
+    free.  Proofs, cheapest first: relaxed reachability of the most permissive model and h^2
+    pair reachability of the abstraction with the update free
+    (:func:`mega_sat.analysis.abstraction.abstract_task`); then the may-reachable states
+    (:class:`mega_sat.search.may_reachability.MayReachability`, at most ``state_limit`` of
+    them, grown one freed update at a time).  When the model's own reachable states exceed
+    ``state_limit``, only the first two proofs run.  The searches get ``search_seconds`` in
+    all; a search cut short proves nothing and keeps the update.  Once ``deadline`` has passed no search runs and no update is tried any more: the
+    updates not yet dropped stay in ``S``, which is still sound, only larger.  ``cut_short`` (a
+    list) receives the number of trials whose search ran out of nodes or seconds.
     """
     from mega_sat.analysis.abstraction import abstract_task
     from mega_sat.analysis.pair_reachability import goal_pair_unreachable
     from mega_sat.search.astar import within
-    from mega_sat.search.vector_search import goal_reachable
+    from mega_sat.search.may_reachability import MayReachability
 
     deadline = deadline if deadline is not None else NO_DEADLINE
     searches = within(deadline, search_seconds)
     everything = frozenset(range(family.n_updates))
+    may: list[MayReachability] = []
+    # updates dropped by a cheap proof that the may-reachable states do not free yet
+    pending: set[int] = set()
 
-    def unsolvable(fixed: frozenset[int]) -> bool:
+    def cheap(fixed: frozenset[int]) -> bool:
         if not _relaxed_goal_reachable(family, selection, fixed):
             return True
-        abstraction = abstract_task(family, selection, fixed)
-        if goal_pair_unreachable(abstraction):
-            return True
+        return goal_pair_unreachable(abstract_task(family, selection, fixed))
+
+    def searched(i: int) -> bool:
         if searches.expired():
             short[0] += 1
             return False
-        verdict, _ = goal_reachable(abstraction, node_limit=node_limit, deadline=searches)
+        if not may:  # built at the first update the cheap proofs cannot drop
+            may.append(
+                MayReachability(family, selection, node_limit=state_limit, deadline=searches)
+            )
+            short[0] += not may[0].ok
+        if not may[0].ok:
+            return False
+        verdict = may[0].try_free(pending | {i})
+        if verdict == Status.UNSOLVABLE:
+            pending.clear()
         short[0] += verdict in (Status.LIMIT, Status.TIMEOUT)
         return verdict == Status.UNSOLVABLE
 
@@ -123,7 +136,10 @@ def unsolvable_core(
         if deadline.expired():
             break
         trial = fixed - {i}
-        if unsolvable(trial):
+        if cheap(trial):
+            fixed = trial
+            pending.add(i)
+        elif searched(i):
             fixed = trial
     if cut_short is not None:
         cut_short.append(short[0])

@@ -1,0 +1,78 @@
+"""The may-reachable states and the unsolvable cores built on them, against explicit-state
+ground truth on random families (tests/helpers/sat_families.py)."""
+
+from __future__ import annotations
+
+from helpers.sat_families import _succ, agreeing, dijkstra, families, selections
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from mega_sat.engines.support import unsolvable_core
+from mega_sat.ground.family import GroundFamily
+from mega_sat.search.may_reachability import MayReachability
+from mega_sat.status import Status
+
+SETTINGS = settings(
+    max_examples=200, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck)
+)
+
+
+def _reachable(fam: GroundFamily, sel: frozenset[int]) -> set[frozenset[int]]:
+    task = fam.specialize(sel)
+    seen = {frozenset(task.init)}
+    todo = list(seen)
+    while todo:
+        for _, t in _succ(task, todo.pop()):
+            if t not in seen:
+                seen.add(t)
+                todo.append(t)
+    return seen
+
+
+def _subsets(n: int):
+    return st.frozensets(st.integers(0, n - 1), max_size=n) if n else st.just(frozenset())
+
+
+@SETTINGS
+@given(fam=families(max_atoms=5, max_actions=7), data=st.data())
+def test_may_states_hold_every_agreeing_model_and_a_proof_is_sound(fam: GroundFamily, data):
+    sel = data.draw(selections(fam.n_updates))
+    may = MayReachability(fam, sel, node_limit=10_000)
+    # the model's own reachable states, exhausted: ok exactly when it has no plan
+    assert may.ok == (dijkstra(fam.specialize(sel)) is None)
+    if not may.ok:
+        return
+    assert may.reached() == _reachable(fam, sel)
+    first = data.draw(_subsets(fam.n_updates))
+    second = data.draw(_subsets(fam.n_updates))
+    for free in (first, second):
+        before = may.reached()
+        verdict = may.try_free(free)
+        others = agreeing([(i, i in sel) for i in range(fam.n_updates) if i not in free],
+                          fam.n_updates)  # fmt: skip
+        if verdict != Status.UNSOLVABLE:
+            assert verdict == Status.PLAN  # tiny tasks never reach a limit
+            assert may.reached() == before  # a failed trial changes nothing
+            break
+        # every agreeing model: no plan, and its reachable states inside R
+        for other in others:
+            assert dijkstra(fam.specialize(other)) is None
+            assert _reachable(fam, other) <= may.reached()
+        assert may.free >= free
+    if may.free:
+        # R grown step by step is R for the final free set, computed at once
+        fresh = MayReachability(fam, sel, node_limit=10_000)
+        assert fresh.try_free(may.free) == Status.UNSOLVABLE
+        assert fresh.reached() == may.reached()
+
+
+@SETTINGS
+@given(fam=families(max_atoms=5, max_actions=7), data=st.data())
+def test_unsolvable_cores_exclude_only_unsolvable_models(fam: GroundFamily, data):
+    sel = data.draw(selections(fam.n_updates))
+    if dijkstra(fam.specialize(sel)) is not None:
+        return
+    core = unsolvable_core(fam, sel, search_seconds=60.0)
+    on = range(fam.n_updates) if core is None else core
+    for other in agreeing([(i, i in sel) for i in on], fam.n_updates):
+        assert dijkstra(fam.specialize(other)) is None
