@@ -125,22 +125,18 @@ class Options:
         default=500,
         metadata={"doc": "least node limit of the explicit JOINT search that confirms a core"},
     )
-    core_search_factor: float = field(
-        default=3.0,
-        metadata={
-            "doc": "the searches that shrink an unsolvable model's exclusion get this many "
-            "times the seconds OPT took to prove it unsolvable"
-        },
-    )
-    unsolvable_core_min_seconds: float = field(
-        default=0.05,
-        metadata={"doc": "seconds those searches get at least, however fast OPT was"},
-    )
     unsolvable_core_states: int = field(
         default=100_000,
         metadata={
-            "doc": "states the may-reachability proof of those searches may hold; past that "
-            "only the relaxed and pair proofs shrink the exclusion"
+            "doc": "states the may-reachability proof that shrinks an unsolvable model's "
+            "exclusion may hold; past that only the relaxed and pair proofs shrink it"
+        },
+    )
+    unsolvable_core_work: int = field(
+        default=300_000,
+        metadata={
+            "doc": "states that proof may visit for one unsolvable model, over all the "
+            "updates it tries (a count, so the exclusion is the same on any machine)"
         },
     )
     portfolio_conflicts: int = field(

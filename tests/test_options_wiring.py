@@ -61,11 +61,11 @@ def test_solver_hands_its_options_to_every_planner_call(monkeypatch):
     assert n and set(seen[:n]) == {300_000} and len(seen) > n and set(seen[n:]) == {7}
 
 
-def test_sat_engine_takes_quick_nodes_and_core_factor():
+def test_sat_engine_takes_quick_nodes_and_core_work():
     task = usar_like()
     plain = api.MegaSolver(task, planner="sat").frontier()
     tuned = api.MegaSolver(
-        task, planner="sat", options=Options(quick_nodes=1, core_search_factor=0.5)
+        task, planner="sat", options=Options(quick_nodes=1, unsolvable_core_work=10)
     ).frontier()
     assert [(p.selection, p.robot_cost) for p in tuned.points] == [
         (p.selection, p.robot_cost) for p in plain.points
@@ -95,7 +95,7 @@ def test_cli_options_change_no_answer():
         assert res.exit_code == 0, res.output
         return [(p["explanation"], p["robot_cost"]) for p in json.loads(res.output)["frontier"]]
 
-    assert points("--option", "quick_nodes=1", "--option", "core-search-factor=0.1") == points()
+    assert points("--option", "quick_nodes=1", "--option", "unsolvable-core-work=10") == points()
 
 
 def test_one_result_type_and_status_for_planner_calls():

@@ -86,8 +86,8 @@ def sat_frontier(
 
     OPT goes through :class:`mega_sat.planners.tiered_opt.TieredOpt` (cheap proofs first,
     ``planner`` last).  Unsolvable candidate models are generalised by relaxed, pair and
-    may-reachability proofs (:func:`mega_sat.engines.support.unsolvable_core`) for up to ``options.core_search_factor`` times the time OPT took to prove
-    them unsolvable.  ``options`` holds every tuning knob (:class:`mega_sat.options.Options`).
+    may-reachability proofs (:func:`mega_sat.engines.support.unsolvable_core`).
+    ``options`` holds every tuning knob (:class:`mega_sat.options.Options`).
 
     ``oracles``: live SAT oracles of ``family``, which the caller has given the same
     ``deadline``; without them the loop makes its own.
@@ -331,11 +331,8 @@ def sat_frontier(
                     on = unsolvable_core(
                         family,
                         sel,
-                        search_seconds=max(
-                            options.unsolvable_core_min_seconds,
-                            options.core_search_factor * opt.time_s,
-                        ),
                         state_limit=options.unsolvable_core_states,
+                        work_limit=options.unsolvable_core_work,
                         deadline=deadline,
                         cut_short=short,
                     )

@@ -75,8 +75,8 @@ def unsolvable_core(
     family: GroundFamily,
     selection: frozenset[int],
     *,
-    search_seconds: float = 0.0,
     state_limit: int = 100_000,
+    work_limit: int | None = None,
     deadline: Deadline | None = None,
     cut_short: list[int] | None = None,
 ) -> frozenset[int] | None:
@@ -90,18 +90,18 @@ def unsolvable_core(
     (:func:`mega_sat.analysis.abstraction.abstract_task`); then the may-reachable states
     (:class:`mega_sat.search.may_reachability.MayReachability`, at most ``state_limit`` of
     them, grown one freed update at a time).  When the model's own reachable states exceed
-    ``state_limit``, only the first two proofs run.  The searches get ``search_seconds`` in
-    all; a search cut short proves nothing and keeps the update.  Once ``deadline`` has passed no search runs and no update is tried any more: the
-    updates not yet dropped stay in ``S``, which is still sound, only larger.  ``cut_short`` (a
-    list) receives the number of trials whose search ran out of nodes or seconds.
+    ``state_limit``, only the first two proofs run.  The may-reachability proofs of one core
+    visit at most ``work_limit`` states in all (a count, not seconds, so that the core is the
+    same on any machine); a proof cut short proves nothing and keeps the update.  Once
+    ``deadline`` has passed no update is tried any more: the updates not yet dropped stay in
+    ``S``, which is still sound, only larger.  ``cut_short`` (a list) receives the number of
+    trials whose proof ran out of states or time.
     """
     from mega_sat.analysis.abstraction import abstract_task
     from mega_sat.analysis.pair_reachability import goal_pair_unreachable
-    from mega_sat.search.astar import within
     from mega_sat.search.may_reachability import MayReachability
 
     deadline = deadline if deadline is not None else NO_DEADLINE
-    searches = within(deadline, search_seconds)
     everything = frozenset(range(family.n_updates))
     may: list[MayReachability] = []
     # updates dropped by a cheap proof that the may-reachable states do not free yet
@@ -113,12 +113,15 @@ def unsolvable_core(
         return goal_pair_unreachable(abstract_task(family, selection, fixed))
 
     def searched(i: int) -> bool:
-        if searches.expired():
-            short[0] += 1
-            return False
         if not may:  # built at the first update the cheap proofs cannot drop
             may.append(
-                MayReachability(family, selection, node_limit=state_limit, deadline=searches)
+                MayReachability(
+                    family,
+                    selection,
+                    node_limit=state_limit,
+                    work_limit=work_limit,
+                    deadline=deadline,
+                )
             )
             short[0] += not may[0].ok
         if not may[0].ok:

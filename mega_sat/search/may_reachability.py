@@ -51,6 +51,9 @@ class MayReachability:
 
     ``ok`` is False when ``R`` for the empty free set (the model's own reachable states) could
     not be exhausted within ``node_limit`` states; then nothing can be freed by this method.
+    ``work_limit`` bounds the states all calls together may visit (each trial's new states,
+    and ``R`` once per trial for the successors of the actions it changes), so that the
+    effort, and with it the answer, does not depend on the machine's speed.
     """
 
     def __init__(
@@ -59,11 +62,14 @@ class MayReachability:
         selection: Iterable[int],
         *,
         node_limit: int,
+        work_limit: int | None = None,
         deadline: Deadline | None = None,
     ):
         self.family = family
         self.sel = frozenset(selection)
         self.node_limit = node_limit
+        self.work_limit = work_limit
+        self.work = 0
         self.deadline = deadline if deadline is not None else NO_DEADLINE
         self.free: frozenset[int] = frozenset()
         mutable = {p for a in family.actions for p, _ in (*a.add, *a.delete)}
@@ -210,7 +216,7 @@ class MayReachability:
             if goal is not None and ((layer & goal) == goal).all(axis=1).any():
                 return Status.PLAN, None, None
             n_new += len(layer)
-            if self.expanded + n_new > self.node_limit:
+            if self.expanded + n_new > self.node_limit or self._spend(len(layer)):
                 return Status.LIMIT, None, None
             closed.add(keys)
             found.append(layer)
@@ -223,6 +229,11 @@ class MayReachability:
             layer = np.concatenate(nxt) if nxt else layer[:0]
         new_states = np.concatenate(found) if found else self.states[:0]
         return Status.UNSOLVABLE, closed, new_states
+
+    def _spend(self, states: int) -> bool:
+        """Count ``states`` as visited; whether that passes ``work_limit``."""
+        self.work += states
+        return self.work_limit is not None and self.work > self.work_limit
 
     def _commit(self, free, rows, closed: _Closed, new_states: np.ndarray) -> None:
         self.free, self.rows = free, rows
@@ -245,8 +256,8 @@ class MayReachability:
     def try_free(self, updates: Iterable[int]) -> Status:
         """Free ``updates`` as well, if ``R`` stays goal-free: ``UNSOLVABLE`` (and ``R``
         grows) when it does; ``PLAN`` when some state would satisfy the goal, ``LIMIT`` when
-        ``R`` would outgrow ``node_limit`` (or a variant count its cap), ``TIMEOUT`` at the
-        deadline; then nothing changes."""
+        ``R`` would outgrow ``node_limit``, the work ``work_limit`` or a variant count its
+        cap, ``TIMEOUT`` at the deadline; then nothing changes."""
         assert self.ok
         free = self.free | frozenset(updates)
         changed = sorted({j for u in free - self.free for j in self.mentions.get(u, ())})
@@ -262,6 +273,8 @@ class MayReachability:
             return Status.PLAN
         table = self._stack(rows, changed)
         if table is not None:
+            if self._spend(len(self.states)):
+                return Status.LIMIT
             for lo in range(0, len(self.states), _CHUNK):
                 starts.append(self._successors(self.states[lo : lo + _CHUNK], table))
         verdict, closed, new_states = self._explore(np.concatenate(starts), rows, free)
