@@ -32,7 +32,7 @@ import numpy as np
 
 from mega_sat.deadline import NO_DEADLINE, Deadline
 from mega_sat.ground.family import Entry, GroundAction, GroundFamily, Guard
-from mega_sat.search.vector_search import _CHUNK, _Closed, _first_new, _words
+from mega_sat.search.vector_search import _CHUNK, _Closed, _words
 from mega_sat.status import Status
 
 _PRESENT, _FREE, _ABSENT = 0, 1, 2
@@ -51,9 +51,10 @@ class MayReachability:
 
     ``ok`` is False when ``R`` for the empty free set (the model's own reachable states) could
     not be exhausted within ``node_limit`` states; then nothing can be freed by this method.
-    ``work_limit`` bounds the states all calls together may visit (each trial's new states,
-    and ``R`` once per trial for the successors of the actions it changes), so that the
-    effort, and with it the answer, does not depend on the machine's speed.
+    ``work_limit`` bounds the new states all trials together may visit (the successors of
+    ``R`` under the actions a trial changes are computed for every state of ``R``, at most
+    ``node_limit`` per trial, and not counted), so that the effort, and with it the answer,
+    does not depend on the machine's speed.
     """
 
     def __init__(
@@ -206,11 +207,8 @@ class MayReachability:
         n_new = 0
         layer = starts
         while len(layer):
+            layer = self._unseen(layer, closed)
             keys = self._keys(layer)
-            fresh = _first_new(keys, closed)
-            layer, keys = layer[fresh], keys[fresh]
-            old = self.closed.contains(keys)
-            layer, keys = layer[~old], keys[~old]
             if not len(layer):
                 break
             if goal is not None and ((layer & goal) == goal).all(axis=1).any():
@@ -229,6 +227,15 @@ class MayReachability:
             layer = np.concatenate(nxt) if nxt else layer[:0]
         new_states = np.concatenate(found) if found else self.states[:0]
         return Status.UNSOLVABLE, closed, new_states
+
+    def _unseen(self, states: np.ndarray, closed: _Closed | None = None) -> np.ndarray:
+        """The distinct rows of ``states`` in neither ``R`` nor ``closed``, in order of first
+        occurrence (the closed lists are searched with sorted keys, which is cache-friendly)."""
+        keys, first = np.unique(self._keys(states), return_index=True)
+        seen = self.closed.contains(keys)
+        if closed is not None:
+            seen |= closed.contains(keys)
+        return states[np.sort(first[~seen])]
 
     def _spend(self, states: int) -> bool:
         """Count ``states`` as visited; whether that passes ``work_limit``."""
@@ -273,10 +280,9 @@ class MayReachability:
             return Status.PLAN
         table = self._stack(rows, changed)
         if table is not None:
-            if self._spend(len(self.states)):
-                return Status.LIMIT
             for lo in range(0, len(self.states), _CHUNK):
-                starts.append(self._successors(self.states[lo : lo + _CHUNK], table))
+                succ = self._successors(self.states[lo : lo + _CHUNK], table)
+                starts.append(self._unseen(succ))
         verdict, closed, new_states = self._explore(np.concatenate(starts), rows, free)
         if verdict == Status.UNSOLVABLE:
             self._commit(free, rows, closed, new_states)
