@@ -103,9 +103,10 @@ def unsolvable_core(
 
     deadline = deadline if deadline is not None else NO_DEADLINE
     everything = frozenset(range(family.n_updates))
-    may: list[MayReachability] = []
+    may: MayReachability | None = None  # built at the first update the cheap proofs keep
     # updates dropped by a cheap proof that the may-reachable states do not free yet
     pending: set[int] = set()
+    short = 0
 
     def cheap(fixed: frozenset[int]) -> bool:
         if not _relaxed_goal_reachable(family, selection, fixed):
@@ -113,26 +114,19 @@ def unsolvable_core(
         return goal_pair_unreachable(abstract_task(family, selection, fixed))
 
     def searched(i: int) -> bool:
-        if not may:  # built at the first update the cheap proofs cannot drop
-            may.append(
-                MayReachability(
-                    family,
-                    selection,
-                    node_limit=state_limit,
-                    work_limit=work_limit,
-                    deadline=deadline,
-                )
+        nonlocal may, short
+        if may is None:
+            may = MayReachability(
+                family, selection, node_limit=state_limit, work_limit=work_limit, deadline=deadline
             )
-            short[0] += not may[0].ok
-        if not may[0].ok:
+            short += not may.ok
+        if not may.ok:
             return False
-        verdict = may[0].try_free(pending | {i})
+        verdict = may.try_free(pending | {i})
         if verdict == Status.UNSOLVABLE:
             pending.clear()
-        short[0] += verdict in (Status.LIMIT, Status.TIMEOUT)
+        short += verdict in (Status.LIMIT, Status.TIMEOUT)
         return verdict == Status.UNSOLVABLE
-
-    short = [0]
 
     fixed = everything
     for i in sorted(everything):
@@ -145,7 +139,7 @@ def unsolvable_core(
         elif searched(i):
             fixed = trial
     if cut_short is not None:
-        cut_short.append(short[0])
+        cut_short.append(short)
     return None if fixed == everything else fixed
 
 

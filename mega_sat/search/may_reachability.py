@@ -32,7 +32,7 @@ import numpy as np
 
 from mega_sat.deadline import NO_DEADLINE, Deadline
 from mega_sat.ground.family import Entry, GroundAction, GroundFamily, Guard
-from mega_sat.search.vector_search import _CHUNK, _Closed, _words
+from mega_sat.search.vector_search import _CHUNK, _Closed, _words, state_keys, successors
 from mega_sat.status import Status
 
 _PRESENT, _FREE, _ABSENT = 0, 1, 2
@@ -86,7 +86,6 @@ class MayReachability:
         self.rows: dict[int, tuple[np.ndarray, ...]] = {}
         self.closed = _Closed()
         self.states = np.zeros((0, self.n_words), dtype=np.uint64)
-        self.expanded = 0
         self.ok = False
         try:
             for j in range(len(family.actions)):
@@ -181,22 +180,6 @@ class MayReachability:
             return None
         return tuple(np.concatenate([p[k] for p in parts]) for k in range(4))
 
-    @staticmethod
-    def _successors(states: np.ndarray, table) -> np.ndarray:
-        pre, neg, keep, add = table
-        ok = np.ones((len(states), len(pre)), dtype=bool)
-        for w in range(states.shape[1]):
-            s = states[:, w : w + 1]
-            ok &= (s & pre[:, w]) == pre[:, w]
-            ok &= (s & neg[:, w]) == 0
-        rows, acts = np.nonzero(ok)
-        return (states[rows] & keep[acts]) | add[acts]
-
-    def _keys(self, states: np.ndarray) -> np.ndarray:
-        if self.n_words == 1:
-            return states[:, 0]
-        return np.ascontiguousarray(states).view(np.dtype((np.void, 8 * self.n_words))).ravel()
-
     def _explore(self, starts: np.ndarray, rows, free: frozenset[int]):
         """Exhaust what ``starts`` reach beyond ``R`` under ``free``: ``(verdict, closed,
         states)`` of the new states, ``UNSOLVABLE`` when none satisfies the goal."""
@@ -208,13 +191,13 @@ class MayReachability:
         layer = starts
         while len(layer):
             layer = self._unseen(layer, closed)
-            keys = self._keys(layer)
+            keys = state_keys(layer)
             if not len(layer):
                 break
             if goal is not None and ((layer & goal) == goal).all(axis=1).any():
                 return Status.PLAN, None, None
             n_new += len(layer)
-            if self.expanded + n_new > self.node_limit or self._spend(len(layer)):
+            if len(self.states) + n_new > self.node_limit or self._spend(len(layer)):
                 return Status.LIMIT, None, None
             closed.add(keys)
             found.append(layer)
@@ -223,7 +206,7 @@ class MayReachability:
                 if self.deadline.expired():
                     return Status.TIMEOUT, None, None
                 if table is not None:
-                    nxt.append(self._successors(layer[lo : lo + _CHUNK], table))
+                    nxt.append(successors(layer[lo : lo + _CHUNK], *table)[2])
             layer = np.concatenate(nxt) if nxt else layer[:0]
         new_states = np.concatenate(found) if found else self.states[:0]
         return Status.UNSOLVABLE, closed, new_states
@@ -231,7 +214,7 @@ class MayReachability:
     def _unseen(self, states: np.ndarray, closed: _Closed | None = None) -> np.ndarray:
         """The distinct rows of ``states`` in neither ``R`` nor ``closed``, in order of first
         occurrence (the closed lists are searched with sorted keys, which is cache-friendly)."""
-        keys, first = np.unique(self._keys(states), return_index=True)
+        keys, first = np.unique(state_keys(states), return_index=True)
         seen = self.closed.contains(keys)
         if closed is not None:
             seen |= closed.contains(keys)
@@ -247,7 +230,6 @@ class MayReachability:
         for level in closed.levels:
             self.closed.add(level)
         self.states = np.concatenate((self.states, new_states))
-        self.expanded = len(self.states)
 
     def reached(self) -> set[frozenset[int]]:
         """``R`` as atom sets (constant atoms included), for tests and debugging."""
@@ -281,7 +263,7 @@ class MayReachability:
         table = self._stack(rows, changed)
         if table is not None:
             for lo in range(0, len(self.states), _CHUNK):
-                succ = self._successors(self.states[lo : lo + _CHUNK], table)
+                succ = successors(self.states[lo : lo + _CHUNK], *table)[2]
                 starts.append(self._unseen(succ))
         verdict, closed, new_states = self._explore(np.concatenate(starts), rows, free)
         if verdict == Status.UNSOLVABLE:

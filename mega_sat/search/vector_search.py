@@ -107,21 +107,34 @@ class _Layout:
         return lambda states: np.flatnonzero(((states & goal) == goal).all(axis=1))
 
     def keys(self, states: np.ndarray) -> np.ndarray:
-        """Exact sortable keys: the word itself, or the row's bytes for wider states."""
-        if self.n_words == 1:
-            return states[:, 0]
-        return np.ascontiguousarray(states).view(np.dtype((np.void, 8 * self.n_words))).ravel()
+        return state_keys(states)
 
     def successors(self, states: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``(row, action row, successor)`` for every applicable action of every state, in
         generation order (by state, then action)."""
-        ok = np.ones((len(states), len(self.action)), dtype=bool)
-        for w in range(self.n_words):
-            s = states[:, w : w + 1]
-            ok &= (s & self.pre[:, w]) == self.pre[:, w]
-            ok &= (s & self.neg[:, w]) == 0
-        rows, acts = np.nonzero(ok)
-        return rows, acts, (states[rows] & self.keep[acts]) | self.add[acts]
+        return successors(states, self.pre, self.neg, self.keep, self.add)
+
+
+def state_keys(states: np.ndarray) -> np.ndarray:
+    """Exact sortable keys of bit-packed states: the word itself, or the row's bytes for
+    wider states."""
+    if states.shape[1] == 1:
+        return states[:, 0]
+    return np.ascontiguousarray(states).view(np.dtype((np.void, 8 * states.shape[1]))).ravel()
+
+
+def successors(
+    states: np.ndarray, pre: np.ndarray, neg: np.ndarray, keep: np.ndarray, add: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(row, action row, successor)`` for every action row (word arrays ``pre``, ``neg``,
+    ``keep``, ``add``) applicable in every state, by state, then action."""
+    ok = np.ones((len(states), len(pre)), dtype=bool)
+    for w in range(states.shape[1]):
+        s = states[:, w : w + 1]
+        ok &= (s & pre[:, w]) == pre[:, w]
+        ok &= (s & neg[:, w]) == 0
+    rows, acts = np.nonzero(ok)
+    return rows, acts, (states[rows] & keep[acts]) | add[acts]
 
 
 def _first_new(keys: np.ndarray, closed: _Closed) -> np.ndarray:
