@@ -7,6 +7,8 @@ from helpers.sat_families import _succ, agreeing, dijkstra, families, selections
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from mega_sat.analysis.abstraction import abstract_task
+from mega_sat.analysis.pair_reachability import goal_pair_unreachable
 from mega_sat.engines.support import unsolvable_core
 from mega_sat.ground.family import GroundFamily
 from mega_sat.search.may_reachability import MayReachability
@@ -53,6 +55,9 @@ def test_may_states_hold_every_agreeing_model_and_a_proof_is_sound(fam: GroundFa
         if verdict != Status.UNSOLVABLE:
             assert verdict == Status.PLAN  # tiny tasks never reach a limit
             assert may.reached() == before  # a failed trial changes nothing
+            # the coarser pair abstraction reaches the goal too (unsolvable_core skips it)
+            fixed = set(range(fam.n_updates)) - may.free - free
+            assert not goal_pair_unreachable(abstract_task(fam, sel, fixed))
             break
         # every agreeing model: no plan, and its reachable states inside R
         for other in others:
@@ -76,3 +81,27 @@ def test_unsolvable_cores_exclude_only_unsolvable_models(fam: GroundFamily, data
     on = range(fam.n_updates) if core is None else core
     for other in agreeing([(i, i in sel) for i in on], fam.n_updates):
         assert dijkstra(fam.specialize(other)) is None
+
+
+@SETTINGS
+@given(fam=families(max_atoms=5, max_actions=7), data=st.data())
+def test_a_state_limit_changes_the_verdict_only_to_limit(fam: GroundFamily, data):
+    sel = data.draw(selections(fam.n_updates))
+    free = data.draw(_subsets(fam.n_updates))
+    unlimited = MayReachability(fam, sel, node_limit=10_000)
+    if not unlimited.ok:
+        return
+    verdict = unlimited.try_free(free)
+    limit = data.draw(st.integers(0, len(unlimited.states) + 1))
+    limited = MayReachability(fam, sel, node_limit=limit)
+    if not limited.ok:
+        assert len(_reachable(fam, sel)) > limit
+        return
+    got = limited.try_free(free)
+    if verdict == Status.UNSOLVABLE:
+        fits = len(unlimited.states) <= limit
+        assert got == (Status.UNSOLVABLE if fits else Status.LIMIT)
+        assert limited.reached() == (unlimited.reached() if fits else _reachable(fam, sel))
+    else:
+        assert got in (Status.PLAN, Status.LIMIT)
+        assert limited.reached() == _reachable(fam, sel)

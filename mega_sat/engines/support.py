@@ -85,12 +85,13 @@ def unsolvable_core(
     updates" can be shown.
 
     Deletion from all updates: an update is dropped when the model stays unsolvable with it
-    free.  Proofs, cheapest first: relaxed reachability of the most permissive model and h^2
-    pair reachability of the abstraction with the update free
-    (:func:`mega_sat.analysis.abstraction.abstract_task`); then the may-reachable states
-    (:class:`mega_sat.search.may_reachability.MayReachability`, at most ``state_limit`` of
-    them, grown one freed update at a time).  When the model's own reachable states exceed
-    ``state_limit``, only the first two proofs run.  The may-reachability proofs of one core
+    free.  Proofs, cheapest first: relaxed reachability of the most permissive model; then the
+    may-reachable states (:class:`mega_sat.search.may_reachability.MayReachability`, at most
+    ``state_limit`` of them, grown one freed update at a time); where those run past a limit
+    (or the model's own reachable states exceed ``state_limit``), h^2 pair reachability of the
+    abstraction with the update free (:func:`mega_sat.analysis.abstraction.abstract_task`),
+    which needs no states.  (Where the may-reachable states reach the goal, the coarser pair
+    abstraction does too, so it is not tried.)  The may-reachability proofs of one core
     visit at most ``work_limit`` states in all (a count, not seconds, so that the core is the
     same on any machine); a proof cut short proves nothing and keeps the update.  Once
     ``deadline`` has passed no update is tried any more: the updates not yet dropped stay in
@@ -103,17 +104,12 @@ def unsolvable_core(
 
     deadline = deadline if deadline is not None else NO_DEADLINE
     everything = frozenset(range(family.n_updates))
-    may: MayReachability | None = None  # built at the first update the cheap proofs keep
-    # updates dropped by a cheap proof that the may-reachable states do not free yet
+    may: MayReachability | None = None  # built at the first update relaxed reachability keeps
+    # updates dropped by another proof that the may-reachable states do not free yet
     pending: set[int] = set()
     short = 0
 
-    def cheap(fixed: frozenset[int]) -> bool:
-        if not _relaxed_goal_reachable(family, selection, fixed):
-            return True
-        return goal_pair_unreachable(abstract_task(family, selection, fixed))
-
-    def searched(i: int) -> bool:
+    def searched(i: int) -> Status:
         nonlocal may, short
         if may is None:
             may = MayReachability(
@@ -121,23 +117,31 @@ def unsolvable_core(
             )
             short += not may.ok
         if not may.ok:
-            return False
+            return Status.LIMIT
         verdict = may.try_free(pending | {i})
         if verdict == Status.UNSOLVABLE:
             pending.clear()
         short += verdict in (Status.LIMIT, Status.TIMEOUT)
-        return verdict == Status.UNSOLVABLE
+        return verdict
 
     fixed = everything
     for i in sorted(everything):
         if deadline.expired():
             break
         trial = fixed - {i}
-        if cheap(trial):
+        if not _relaxed_goal_reachable(family, selection, trial):
             fixed = trial
             pending.add(i)
-        elif searched(i):
+            continue
+        verdict = searched(i)
+        if verdict == Status.UNSOLVABLE:
             fixed = trial
+        elif verdict != Status.PLAN and goal_pair_unreachable(
+            abstract_task(family, selection, trial)
+        ):
+            # the pair proof needs no states: it may succeed where R outgrew its limits
+            fixed = trial
+            pending.add(i)
     if cut_short is not None:
         cut_short.append(short)
     return None if fixed == everything else fixed

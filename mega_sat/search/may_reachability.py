@@ -32,7 +32,14 @@ import numpy as np
 
 from mega_sat.deadline import NO_DEADLINE, Deadline
 from mega_sat.ground.family import Entry, GroundAction, GroundFamily, Guard
-from mega_sat.search.vector_search import _CHUNK, _Closed, _words, state_keys, successors
+from mega_sat.search.vector_search import (
+    _CHUNK,
+    _Closed,
+    _words,
+    state_keys,
+    successors,
+    unique_keys,
+)
 from mega_sat.status import Status
 
 _PRESENT, _FREE, _ABSENT = 0, 1, 2
@@ -194,7 +201,7 @@ class MayReachability:
             keys = state_keys(layer)
             if not len(layer):
                 break
-            if goal is not None and ((layer & goal) == goal).all(axis=1).any():
+            if goal is not None and _at_goal(layer, goal).any():
                 return Status.PLAN, None, None
             n_new += len(layer)
             if len(self.states) + n_new > self.node_limit or self._spend(len(layer)):
@@ -212,13 +219,14 @@ class MayReachability:
         return Status.UNSOLVABLE, closed, new_states
 
     def _unseen(self, states: np.ndarray, closed: _Closed | None = None) -> np.ndarray:
-        """The distinct rows of ``states`` in neither ``R`` nor ``closed``, in order of first
-        occurrence (the closed lists are searched with sorted keys, which is cache-friendly)."""
-        keys, first = np.unique(state_keys(states), return_index=True)
+        """The distinct rows of ``states`` in neither ``R`` nor ``closed``, in key order (a
+        layer's order plays no part in what it reaches; sorted keys keep the closed lists'
+        searches cache-friendly)."""
+        keys = unique_keys(state_keys(states))
         seen = self.closed.contains(keys)
         if closed is not None:
             seen |= closed.contains(keys)
-        return states[np.sort(first[~seen])]
+        return _rows(keys[~seen], self.n_words)
 
     def _spend(self, states: int) -> bool:
         """Count ``states`` as visited; whether that passes ``work_limit``."""
@@ -254,21 +262,55 @@ class MayReachability:
             rows = dict(self.rows)
             for j in changed:
                 rows[j] = self._variants(self.family.actions[j], free)
-            starts = [self._initial_states(free)]
+            initial = self._initial_states(free)
         except _Blowup:
             return Status.LIMIT
         goal = self._goal(free)
-        if goal is not None and ((self.states & goal) == goal).all(axis=1).any():
+        if goal is not None and _at_goal(self.states, goal).any():
             return Status.PLAN
-        table = self._stack(rows, changed)
-        if table is not None:
-            for lo in range(0, len(self.states), _CHUNK):
-                succ = successors(self.states[lo : lo + _CHUNK], *table)[2]
-                starts.append(self._unseen(succ))
+        # R is closed under the variants it was grown with: only a variant new to an action
+        # can lead out of it
+        fresh = {j: _new_rows(self.rows[j], rows[j]) for j in changed}
+        table = self._stack(fresh, changed)
+        room = self.node_limit - len(self.states)
+        seen, starts = _Closed(), []
+        n_starts = 0
+        for states in itertools.chain([initial], self._successors_of_r(table)):
+            new = self._unseen(states, seen)
+            if goal is not None and _at_goal(new, goal).any():
+                return Status.PLAN
+            seen.add(state_keys(new))
+            starts.append(new)
+            n_starts += len(new)
+            if n_starts > room:  # R would outgrow node_limit: no need to look further
+                return Status.LIMIT
         verdict, closed, new_states = self._explore(np.concatenate(starts), rows, free)
         if verdict == Status.UNSOLVABLE:
             self._commit(free, rows, closed, new_states)
         return verdict
+
+    def _successors_of_r(self, table):
+        """The successors of ``R`` under the action rows ``table``, a chunk at a time."""
+        if table is None:
+            return
+        for lo in range(0, len(self.states), _CHUNK):
+            yield successors(self.states[lo : lo + _CHUNK], *table)[2]
+
+
+def _at_goal(states: np.ndarray, goal: np.ndarray) -> np.ndarray:
+    return ((states & goal) == goal).all(axis=1)
+
+
+def _rows(keys: np.ndarray, n_words: int) -> np.ndarray:
+    """Bit-packed states back from their keys (:func:`state_keys`)."""
+    return np.ascontiguousarray(keys).view(np.uint64).reshape(-1, n_words)
+
+
+def _new_rows(old: tuple[np.ndarray, ...], new: tuple[np.ndarray, ...]) -> tuple[np.ndarray, ...]:
+    """The variants in ``new`` (an action's ``(pre, neg, keep, add)`` rows) not in ``old``."""
+    had = {tuple(r) for r in np.hstack(old).tolist()}
+    keep = [i for i, r in enumerate(np.hstack(new).tolist()) if tuple(r) not in had]
+    return tuple(part[keep] for part in new)
 
 
 def _condition_guards(a: GroundAction) -> set[int]:

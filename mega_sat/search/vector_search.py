@@ -59,6 +59,8 @@ class _Closed:
         return found
 
     def add(self, keys: np.ndarray) -> None:
+        if not len(keys):
+            return
         self.levels.append(np.sort(keys))
         while len(self.levels) > 1 and len(self.levels[-2]) <= 2 * len(self.levels[-1]):
             top = self.levels.pop()
@@ -123,16 +125,29 @@ def state_keys(states: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(states).view(np.dtype((np.void, 8 * states.shape[1]))).ravel()
 
 
+def unique_keys(keys: np.ndarray) -> np.ndarray:
+    """The distinct keys, sorted: one sort and one comparison of neighbours (``np.unique``
+    hashes before it sorts, which costs more on arrays of this size)."""
+    keys = np.sort(keys)
+    first = np.ones(len(keys), dtype=bool)
+    if len(keys) > 1:
+        np.not_equal(keys[1:], keys[:-1], out=first[1:])
+    return keys[first]
+
+
 def successors(
     states: np.ndarray, pre: np.ndarray, neg: np.ndarray, keep: np.ndarray, add: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``(row, action row, successor)`` for every action row (word arrays ``pre``, ``neg``,
     ``keep``, ``add``) applicable in every state, by state, then action."""
-    ok = np.ones((len(states), len(pre)), dtype=bool)
-    for w in range(states.shape[1]):
-        s = states[:, w : w + 1]
-        ok &= (s & pre[:, w]) == pre[:, w]
-        ok &= (s & neg[:, w]) == 0
+    # one mask test per word: the atoms a row tests, against the ones it needs true
+    both = pre | neg
+    ok = (states[:, :1] & both[:, 0]) == pre[:, 0]
+    for w in range(1, states.shape[1]):
+        ok &= (states[:, w : w + 1] & both[:, w]) == pre[:, w]
+    clash = ((pre & neg) != 0).any(axis=1)  # a row needing an atom both true and false
+    if clash.any():
+        ok &= ~clash
     rows, acts = np.nonzero(ok)
     return rows, acts, (states[rows] & keep[acts]) | add[acts]
 
