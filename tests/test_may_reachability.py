@@ -105,3 +105,32 @@ def test_a_state_limit_changes_the_verdict_only_to_limit(fam: GroundFamily, data
     else:
         assert got in (Status.PLAN, Status.LIMIT)
         assert limited.reached() == _reachable(fam, sel)
+
+
+def _padded(fam: GroundFamily, pad: int = 70) -> GroundFamily:
+    """``fam`` with ``pad`` more atoms that one unconditional action sets together: every
+    reachable state comes in two copies (without and with them) and takes two words."""
+    from dataclasses import replace
+
+    from mega_sat.ground.family import GroundAction
+
+    n = len(fam.atoms)
+    atoms = fam.atoms + tuple((f"pad{k}",) for k in range(pad))
+    fill = GroundAction("fill", (), None, (), (), tuple((n + k, None) for k in range(pad)), (),
+                        (((), 1),))  # fmt: skip
+    return replace(fam, atoms=atoms, actions=(*fam.actions, fill))
+
+
+@SETTINGS
+@given(fam=families(max_atoms=5, max_actions=7), data=st.data())
+def test_states_wider_than_a_word_give_the_same_verdicts(fam: GroundFamily, data):
+    sel = data.draw(selections(fam.n_updates))
+    narrow = MayReachability(fam, sel, node_limit=10_000)
+    wide = MayReachability(_padded(fam), sel, node_limit=10_000)
+    assert wide.n_words == 2
+    assert wide.ok == narrow.ok
+    if not narrow.ok:
+        return
+    for free in (data.draw(_subsets(fam.n_updates)), data.draw(_subsets(fam.n_updates))):
+        assert wide.try_free(free) == narrow.try_free(free)
+        assert len(wide.states) == 2 * len(narrow.states)

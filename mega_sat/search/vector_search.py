@@ -131,7 +131,7 @@ def unique_keys(keys: np.ndarray) -> np.ndarray:
     keys = np.sort(keys)
     first = np.ones(len(keys), dtype=bool)
     if len(keys) > 1:
-        np.not_equal(keys[1:], keys[:-1], out=first[1:])
+        first[1:] = keys[1:] != keys[:-1]  # (no ufunc loop writes the void keys of wide states)
     return keys[first]
 
 
