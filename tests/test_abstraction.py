@@ -8,7 +8,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from mega_sat.analysis.abstraction import abstract_task
-from mega_sat.analysis.pair_reachability import goal_pair_unreachable
+from mega_sat.analysis.pair_reachability import goal_pair_unreachable, pair_masks
 from mega_sat.ground.family import GroundFamily
 from mega_sat.planners.node_planner import NodePlanner
 from mega_sat.planners.tiered_opt import TieredOpt
@@ -55,6 +55,18 @@ def test_pair_reachability_never_refutes_a_solvable_model(fam: GroundFamily, dat
     if goal_pair_unreachable(abstract_task(fam, sel, fixed)):
         for other in agreeing([(i, i in sel) for i in fixed], fam.n_updates):
             assert dijkstra(fam.specialize(other)) is None
+
+
+@SETTINGS
+@given(fam=families(), data=st.data())
+def test_pair_masks_seeded_by_a_finer_abstraction_are_the_same(fam: GroundFamily, data):
+    # freeing updates only relaxes the abstraction, so the finer one's pairs are reachable
+    sel = data.draw(selections(fam.n_updates))
+    fixed = data.draw(_fixed_sets(fam.n_updates))
+    finer = fixed | data.draw(_fixed_sets(fam.n_updates))
+    task = abstract_task(fam, sel, fixed)
+    seed = pair_masks(abstract_task(fam, sel, finer))
+    assert pair_masks(task, seed) == pair_masks(task)
 
 
 def test_pair_reachability_sees_what_relaxation_cannot():

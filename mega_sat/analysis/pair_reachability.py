@@ -21,14 +21,20 @@ def _mask(ids) -> int:
     return m
 
 
-def pair_masks(task: GroundTask) -> list[int]:
+def pair_masks(task: GroundTask, seed: list[int] | None = None) -> list[int]:
     """``m[p]``: bitmask of the facts ``q`` with ``{p, q}`` h^2-reachable (bit ``p`` itself set
-    iff ``p`` is reachable).  ``task`` must have no negative preconditions."""
+    iff ``p`` is reachable).  ``task`` must have no negative preconditions.
+
+    ``seed``: pairs known to be reachable here, such as the masks of a task this one relaxes
+    (fewer preconditions and deletes, more adds and initial facts); the fixpoint reached from
+    them is the same, in fewer rounds."""
     if any(a.negpre for a in task.actions):
         raise ValueError("pair reachability needs a task without negative preconditions")
     n = len(task.atoms)
     init = _mask(task.init)
     m = [init if (init >> p) & 1 else 0 for p in range(n)]
+    if seed is not None:
+        m = [a | b for a, b in zip(m, seed, strict=True)]
     acts = [
         (sorted(a.pre), _mask(a.pre), sorted(a.add), _mask(a.add), _mask(a.delete))
         for a in task.actions
@@ -69,8 +75,13 @@ def pair_masks(task: GroundTask) -> list[int]:
     return m
 
 
-def goal_pair_unreachable(task: GroundTask) -> bool:
-    """True when some goal fact or pair of goal facts is not h^2-reachable: no plan exists."""
-    m = pair_masks(task)
+def goal_pair_unreachable(task: GroundTask, seed: list[int] | None = None) -> bool:
+    """True when some goal fact or pair of goal facts is not h^2-reachable: no plan exists
+    (``seed`` as for :func:`pair_masks`)."""
+    return not goal_pairs_reached(pair_masks(task, seed), task)
+
+
+def goal_pairs_reached(m: list[int], task: GroundTask) -> bool:
+    """Whether the pair masks ``m`` of ``task`` hold every goal fact and pair of goal facts."""
     goal = _mask(task.goal)
-    return any(m[p] & goal != goal for p in task.goal)
+    return all(m[p] & goal == goal for p in task.goal)

@@ -99,7 +99,7 @@ def unsolvable_core(
     trials whose proof ran out of states or time.
     """
     from mega_sat.analysis.abstraction import abstract_task
-    from mega_sat.analysis.pair_reachability import goal_pair_unreachable
+    from mega_sat.analysis.pair_reachability import goal_pairs_reached, pair_masks
     from mega_sat.search.may_reachability import MayReachability
 
     deadline = deadline if deadline is not None else NO_DEADLINE
@@ -124,6 +124,21 @@ def unsolvable_core(
         short += verdict in (Status.LIMIT, Status.TIMEOUT)
         return verdict
 
+    # pair masks of an abstraction every later trial relaxes (its fixed set only shrinks):
+    # each trial's fixpoint starts from them
+    seed: list[int] | None = None
+
+    def paired(trial: frozenset[int]) -> bool:
+        nonlocal seed
+        if seed is None:
+            seed = pair_masks(abstract_task(family, selection, everything))
+        task = abstract_task(family, selection, trial)
+        masks = pair_masks(task, seed)
+        if goal_pairs_reached(masks, task):
+            return False
+        seed = masks  # the trial becomes the fixed set
+        return True
+
     fixed = everything
     for i in sorted(everything):
         if deadline.expired():
@@ -136,9 +151,7 @@ def unsolvable_core(
         verdict = searched(i)
         if verdict == Status.UNSOLVABLE:
             fixed = trial
-        elif verdict != Status.PLAN and goal_pair_unreachable(
-            abstract_task(family, selection, trial)
-        ):
+        elif verdict != Status.PLAN and paired(trial):
             # the pair proof needs no states: it may succeed where R outgrew its limits
             fixed = trial
             pending.add(i)
