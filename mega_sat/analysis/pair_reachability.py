@@ -75,10 +75,9 @@ def pair_masks(task: GroundTask, seed: list[int] | None = None) -> list[int]:
     return m
 
 
-def goal_pair_unreachable(task: GroundTask, seed: list[int] | None = None) -> bool:
-    """True when some goal fact or pair of goal facts is not h^2-reachable: no plan exists
-    (``seed`` as for :func:`pair_masks`)."""
-    return not goal_pairs_reached(pair_masks(task, seed), task)
+def goal_pair_unreachable(task: GroundTask) -> bool:
+    """True when some goal fact or pair of goal facts is not h^2-reachable: no plan exists."""
+    return not goal_pairs_reached(pair_masks(task), task)
 
 
 def goal_pairs_reached(m: list[int], task: GroundTask) -> bool:

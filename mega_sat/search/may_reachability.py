@@ -209,11 +209,10 @@ class MayReachability:
             closed.add(keys)
             found.append(layer)
             nxt = []
-            for lo in range(0, len(layer), _CHUNK):
+            for succ in _successors_by_chunk(layer, table):
+                nxt.append(succ)
                 if self.deadline.expired():
                     return Status.TIMEOUT, None, None
-                if table is not None:
-                    nxt.append(successors(layer[lo : lo + _CHUNK], *table)[2])
             layer = np.concatenate(nxt) if nxt else layer[:0]
         new_states = np.concatenate(found) if found else self.states[:0]
         return Status.UNSOLVABLE, closed, new_states
@@ -275,7 +274,7 @@ class MayReachability:
         room = self.node_limit - len(self.states)
         seen, starts = _Closed(), []
         n_starts = 0
-        for states in itertools.chain([initial], self._successors_of_r(table)):
+        for states in itertools.chain([initial], _successors_by_chunk(self.states, table)):
             new = self._unseen(states, seen)
             if goal is not None and _at_goal(new, goal).any():
                 return Status.PLAN
@@ -289,12 +288,14 @@ class MayReachability:
             self._commit(free, rows, closed, new_states)
         return verdict
 
-    def _successors_of_r(self, table):
-        """The successors of ``R`` under the action rows ``table``, a chunk at a time."""
-        if table is None:
-            return
-        for lo in range(0, len(self.states), _CHUNK):
-            yield successors(self.states[lo : lo + _CHUNK], *table)[2]
+
+def _successors_by_chunk(states: np.ndarray, table):
+    """The successors of ``states`` under the action rows ``table`` (``None``: no rows), a
+    chunk of states at a time."""
+    if table is None:
+        return
+    for lo in range(0, len(states), _CHUNK):
+        yield successors(states[lo : lo + _CHUNK], *table)[2]
 
 
 def _at_goal(states: np.ndarray, goal: np.ndarray) -> np.ndarray:
