@@ -246,11 +246,18 @@ class Options:
             if key not in types:
                 known = ", ".join(sorted(types))
                 raise UsageError(f"--option {pair!r}: unknown option {key!r} (known: {known})")
-            changes[key] = _parse(key, types[key], text.strip())
+            zero_ok = "(0: " in _field_doc(key)
+            changes[key] = _parse(key, types[key], text.strip(), zero_ok)
         return dataclasses.replace(self, **changes)
 
 
-def _parse(key: str, kind: str, text: str) -> object:
+def _field_doc(key: str) -> str:
+    return next((f.metadata.get("doc", "") for f in fields(Options) if f.name == key), "")
+
+
+def _parse(key: str, kind: str, text: str, zero_ok: bool = False) -> object:
+    """The value of ``--option key=text``: a bool, or a positive number (or 0 where the
+    option's doc says what 0 means)."""
     if kind == "bool":
         low = text.lower()
         if low in ("1", "true", "yes", "on"):
@@ -262,8 +269,8 @@ def _parse(key: str, kind: str, text: str) -> object:
         value = int(text) if kind == "int" else float(text)
     except ValueError:
         raise UsageError(f"--option {key}={text}: expected a number ({kind})") from None
-    if not value > 0:
-        raise UsageError(f"--option {key}={text}: must be positive")
+    if not (value > 0 or (zero_ok and value == 0)):
+        raise UsageError(f"--option {key}={text}: must be {'0 or more' if zero_ok else 'positive'}")
     return value
 
 

@@ -94,10 +94,13 @@ def test_options_parse_key_value_pairs_and_refuse_bad_ones():
         ("nope=1", "unknown option 'nope'"),
         ("horizon_cap=x", "expected a number"),
         ("horizon_cap=0", "must be positive"),
+        ("plan_below_robot_conflicts=-1", "must be 0 or more"),
         ("step_first=maybe", "expected true or false"),
     ]:
         with pytest.raises(UsageError, match=words):
             Options().with_pairs([bad])
+    # 0 only where the option's doc says what it means ("0: never")
+    assert Options().with_pairs(["plan_below_robot_conflicts=0"]).plan_below_robot_conflicts == 0
     assert all(doc for _, _, doc in Options.docs())
 
 
