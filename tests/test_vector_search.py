@@ -8,6 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from mega_sat.ground.family import GroundTask, StripsAction
+from mega_sat.ground.relevance import relevant_part
 from mega_sat.search import astar as astar_mod
 from mega_sat.search.astar import _python_uniform_cost_steps, _successor_groups
 from mega_sat.search.vector_search import goal_reachable, vector_uniform_cost_steps
@@ -115,10 +116,18 @@ def test_large_searches_agree_with_the_python_search_and_switch_over():
 @given(strips_tasks(), st.sampled_from([None, None, 1, 4, 20]))
 def test_goal_reachable_agrees_with_search(task, node_limit):
     """Reachability proves unsolvable exactly the tasks the search exhausts, within the same
-    number of expansions, and finds the goal exactly where there is a plan."""
-    init = sum(1 << p for p in task.init)
-    goal = sum(1 << p for p in task.goal)
-    full, _ = _run(_python_uniform_cost_steps(task, init, goal))
+    number of expansions (both on the relevant part of the task), and finds the goal exactly
+    where there is a plan."""
+    part = relevant_part(task)
+    init = sum(1 << p for p in part.init)
+    goal = sum(1 << p for p in part.goal)
+    full, _ = _run(_python_uniform_cost_steps(part, init, goal))
+    whole, _ = _run(
+        _python_uniform_cost_steps(
+            task, sum(1 << p for p in task.init), sum(1 << p for p in task.goal)
+        )
+    )
+    assert (full[0] == Status.OPTIMAL) == (whole[0] == Status.OPTIMAL)
     verdict, expanded = goal_reachable(task, node_limit=node_limit)
     if verdict == Status.UNSOLVABLE:
         assert expanded == full[3]  # every reachable state, once

@@ -32,6 +32,7 @@ import numpy as np
 
 from mega_sat.deadline import NO_DEADLINE, Deadline
 from mega_sat.ground.family import Entry, GroundAction, GroundFamily, Guard
+from mega_sat.ground.relevance import may_relevant_atoms
 from mega_sat.search.vector_search import (
     _CHUNK,
     _Closed,
@@ -80,15 +81,24 @@ class MayReachability:
         self.work = 0
         self.deadline = deadline if deadline is not None else NO_DEADLINE
         self.free: frozenset[int] = frozenset()
+        # states are projected onto the atoms that can matter for any free set
+        # (ground/relevance.py): the rest never decide a condition or the goal, and would
+        # only multiply R
+        self.relevant = may_relevant_atoms(family, self.sel)
+        self.active = {
+            j
+            for j, a in enumerate(family.actions)
+            if any(p in self.relevant for p, _ in (*a.add, *a.delete))
+        }
         mutable = {p for a in family.actions for p, _ in (*a.add, *a.delete)}
         mutable.update(p for p, g in family.init if g is not None)
-        self.pos = {p: i for i, p in enumerate(sorted(mutable))}
-        self.n_words = max(1, -(-len(self.pos) // 64))
         # atoms no action changes and no update puts in the initial state: constant
-        self.constant_true = {p for p, g in family.init if g is None and p not in self.pos}
+        self.constant_true = {p for p, g in family.init if g is None and p not in mutable}
+        self.pos = {p: i for i, p in enumerate(sorted(mutable & self.relevant))}
+        self.n_words = max(1, -(-len(self.pos) // 64))
         self.mentions: dict[int, list[int]] = {}
-        for j, a in enumerate(family.actions):
-            for u in _condition_guards(a):
+        for j in sorted(self.active):
+            for u in _condition_guards(family.actions[j], self.relevant):
                 self.mentions.setdefault(u, []).append(j)
         self.rows: dict[int, tuple[np.ndarray, ...]] = {}
         self.closed = _Closed()
@@ -96,7 +106,7 @@ class MayReachability:
         self.ok = False
         try:
             for j in range(len(family.actions)):
-                self.rows[j] = self._variants(family.actions[j], self.free)
+                self.rows[j] = self._variants(j, self.free)
             starts = self._initial_states(self.free)
         except _Blowup:
             return
@@ -116,11 +126,13 @@ class MayReachability:
     def _mask(self, atoms) -> list[int]:
         return _words(atoms, self.pos, self.n_words)
 
-    def _variants(self, a: GroundAction, free: frozenset[int]) -> tuple[np.ndarray, ...]:
-        """``(pre, neg, keep, add)`` word arrays, one row per variant of ``a`` under ``free``
-        (no rows when ``a`` cannot be applicable)."""
+    def _variants(self, j: int, free: frozenset[int]) -> tuple[np.ndarray, ...]:
+        """``(pre, neg, keep, add)`` word arrays, one row per variant of action ``j`` under
+        ``free`` (no rows when it cannot be applicable or changes no relevant atom); effects
+        on irrelevant atoms are left out."""
         empty = tuple(np.zeros((0, self.n_words), dtype=np.uint64) for _ in range(4))
-        if self._status(a.exists, free) == _ABSENT:
+        a = self.family.actions[j]
+        if j not in self.active or self._status(a.exists, free) == _ABSENT:
             return empty
         pre, neg = [], []
         for entries, out, positive in ((a.pre, pre, True), (a.negpre, neg, False)):
@@ -131,7 +143,9 @@ class MayReachability:
                     out.append(p)
                 elif (p in self.constant_true) != positive:
                     return empty  # a constant atom the condition can never see
-        must_add, must_del, maybe = _effects(a.add, a.delete, lambda g: self._status(g, free))
+        add = tuple(e for e in a.add if e[0] in self.pos)
+        delete = tuple(e for e in a.delete if e[0] in self.pos)
+        must_add, must_del, maybe = _effects(add, delete, lambda g: self._status(g, free))
         if 2 ** len(maybe) > MAX_FREE_COMBINATIONS:
             raise _Blowup
         pre_w, neg_w = self._mask(pre), self._mask(neg)
@@ -260,7 +274,7 @@ class MayReachability:
         try:
             rows = dict(self.rows)
             for j in changed:
-                rows[j] = self._variants(self.family.actions[j], free)
+                rows[j] = self._variants(j, free)
             initial = self._initial_states(free)
         except _Blowup:
             return Status.LIMIT
@@ -314,11 +328,14 @@ def _new_rows(old: tuple[np.ndarray, ...], new: tuple[np.ndarray, ...]) -> tuple
     return tuple(part[keep] for part in new)
 
 
-def _condition_guards(a: GroundAction) -> set[int]:
-    """Updates whose freedom changes ``a``'s transitions (its cost plays no part here)."""
+def _condition_guards(a: GroundAction, relevant: frozenset[int]) -> set[int]:
+    """Updates whose freedom changes ``a``'s transitions on the ``relevant`` atoms (its cost
+    plays no part here)."""
     out = {a.exists[0]} if a.exists else set()
-    for entries in (a.pre, a.negpre, a.add, a.delete):
+    for entries in (a.pre, a.negpre):
         out.update(g[0] for _, g in entries if g)
+    for entries in (a.add, a.delete):
+        out.update(g[0] for p, g in entries if g and p in relevant)
     return out
 
 
