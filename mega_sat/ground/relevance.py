@@ -17,29 +17,37 @@ prove a model unsolvable, or find its optimum, explore the reduced task instead.
 
 from __future__ import annotations
 
+from collections.abc import Iterable
+
 from mega_sat.ground.family import GroundFamily, GroundTask, StripsAction, holds
+
+
+def _closure(goals: Iterable[int], changers: dict[int, list[int]], conditions) -> frozenset[int]:
+    """The fixpoint: ``goals``, plus ``conditions(j)`` of every action ``j`` in
+    ``changers[p]`` (the actions that add or delete ``p``) of each atom ``p`` in it."""
+    relevant = set(goals)
+    todo = list(relevant)
+    used: set[int] = set()
+    while todo:
+        for j in changers.get(todo.pop(), ()):
+            if j in used:
+                continue
+            used.add(j)
+            for q in conditions(j):
+                if q not in relevant:
+                    relevant.add(q)
+                    todo.append(q)
+    return frozenset(relevant)
 
 
 def relevant_atoms(task: GroundTask) -> frozenset[int]:
     """The relevant atoms of ``task`` (the fixpoint in the module docstring)."""
     live = [a for a in task.actions if not (a.pre & a.negpre)]
-    by_atom: dict[int, list[StripsAction]] = {}
-    for a in live:
+    changers: dict[int, list[int]] = {}
+    for j, a in enumerate(live):
         for p in a.add | a.delete:
-            by_atom.setdefault(p, []).append(a)
-    relevant = set(task.goal)
-    todo = list(relevant)
-    used: set[int] = set()
-    while todo:
-        for a in by_atom.get(todo.pop(), ()):
-            if a.index in used:
-                continue
-            used.add(a.index)
-            for q in a.pre | a.negpre:
-                if q not in relevant:
-                    relevant.add(q)
-                    todo.append(q)
-    return frozenset(relevant)
+            changers.setdefault(p, []).append(j)
+    return _closure(task.goal, changers, lambda j: live[j].pre | live[j].negpre)
 
 
 def relevant_part(task: GroundTask) -> GroundTask:
@@ -71,21 +79,14 @@ def may_relevant_atoms(family: GroundFamily, selection: frozenset[int]) -> froze
     dropped) and only adds effects and actions (a free one may happen), so each free set's
     relevant atoms lie inside this set, and projecting its states onto the set keeps every
     verdict."""
-    by_atom: dict[int, list[int]] = {}
+    changers: dict[int, list[int]] = {}
     for j, a in enumerate(family.actions):
         for p, _ in (*a.add, *a.delete):
-            by_atom.setdefault(p, []).append(j)
-    relevant = {p for p, g in family.goal if holds(g, selection)}
-    todo = list(relevant)
-    used: set[int] = set()
-    while todo:
-        for j in by_atom.get(todo.pop(), ()):
-            if j in used:
-                continue
-            used.add(j)
-            a = family.actions[j]
-            for q, g in (*a.pre, *a.negpre):
-                if q not in relevant and holds(g, selection):
-                    relevant.add(q)
-                    todo.append(q)
-    return frozenset(relevant)
+            changers.setdefault(p, []).append(j)
+
+    def conditions(j: int) -> list[int]:
+        a = family.actions[j]
+        return [q for q, g in (*a.pre, *a.negpre) if holds(g, selection)]
+
+    goals = [p for p, g in family.goal if holds(g, selection)]
+    return _closure(goals, changers, conditions)
