@@ -253,7 +253,8 @@ class MayReachability:
         self.states = np.concatenate((self.states, new_states))
 
     def reached(self) -> set[frozenset[int]]:
-        """``R`` as atom sets (constant atoms included), for tests and debugging."""
+        """``R`` as atom sets (on the relevant atoms, constant ones included), for tests and
+        debugging."""
         atoms = sorted(self.pos, key=self.pos.__getitem__)
         out = set()
         for row in self.states:
