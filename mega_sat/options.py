@@ -16,7 +16,8 @@ from mega_sat.errors import UsageError
 
 @dataclass(frozen=True)
 class Options:
-    """The knobs.  Each field's ``metadata["doc"]`` is the sentence docs/cli.md lists."""
+    """The knobs.  Each field's ``metadata["doc"]`` is the sentence docs/cli.md lists;
+    ``metadata["zero"]`` marks a number that may be 0 (its doc says what 0 means)."""
 
     horizon_cap: int = field(
         default=200,
@@ -86,7 +87,8 @@ class Options:
         metadata={
             "doc": "conflicts of the SAT call that looks for a human plan cheaper than the "
             "robot optimum, which rules a model out without OPT when no action costs the "
-            "human less than the robot (0: never)"
+            "human less than the robot (0: never)",
+            "zero": True,
         },
     )
     dominance_trial_conflicts: int = field(
@@ -237,6 +239,7 @@ class Options:
     def with_pairs(self, pairs: Iterable[str]) -> Options:
         """A copy with ``key=value`` settings applied (the CLI's repeatable ``--option``)."""
         types = {f.name: f.type for f in fields(self)}
+        zero_ok = {f.name for f in fields(self) if f.metadata.get("zero")}
         changes: dict[str, object] = {}
         for pair in pairs:
             key, sep, text = pair.partition("=")
@@ -246,18 +249,13 @@ class Options:
             if key not in types:
                 known = ", ".join(sorted(types))
                 raise UsageError(f"--option {pair!r}: unknown option {key!r} (known: {known})")
-            zero_ok = "(0: " in _field_doc(key)
-            changes[key] = _parse(key, types[key], text.strip(), zero_ok)
+            changes[key] = _parse(key, types[key], text.strip(), key in zero_ok)
         return dataclasses.replace(self, **changes)
 
 
-def _field_doc(key: str) -> str:
-    return next((f.metadata.get("doc", "") for f in fields(Options) if f.name == key), "")
-
-
 def _parse(key: str, kind: str, text: str, zero_ok: bool = False) -> object:
-    """The value of ``--option key=text``: a bool, or a positive number (or 0 where the
-    option's doc says what 0 means)."""
+    """The value of ``--option key=text``: a bool, or a positive number (or 0 for the knobs
+    marked ``zero``)."""
     if kind == "bool":
         low = text.lower()
         if low in ("1", "true", "yes", "on"):
