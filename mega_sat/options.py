@@ -48,6 +48,20 @@ class Options:
         default=2_000_000,
         metadata={"doc": "states that reachability check of SAT OPT may expand"},
     )
+    opt_reachability_conflicts: int = field(
+        default=10_000,
+        metadata={
+            "doc": "conflicts SAT OPT spends looking for a first plan before it starts "
+            "exhausting the model's reachable states alongside (a proof it has none)"
+        },
+    )
+    opt_reachability_probe_rate: int = field(
+        default=10,
+        metadata={
+            "doc": "reachable states that check may expand per conflict SAT has spent (at "
+            "most opt_reachability_nodes)"
+        },
+    )
     solve_chunk: int = field(
         default=5000,
         metadata={"doc": "conflicts per SAT solve chunk (the deadline is checked between chunks)"},

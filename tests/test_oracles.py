@@ -90,10 +90,47 @@ def test_opt_proves_a_large_model_unsolvable_by_reachability():
         assert r.status == Status.UNSOLVABLE and r.exact and "no reachable state" in r.reason
         assert orc.stats.opt_by_reachability == 1
     # within too few states the check proves nothing: SAT carries on
+    from mega_sat.search.vector_search import Reachability
+
     with SatOracles(fam, options=Options(opt_reachability_nodes=1000)) as orc:
-        assert not orc.opt_oracle._unreachable(fam.specialize(frozenset({18})))
+        reach = Reachability(fam.specialize(frozenset({18})))
+        assert orc.opt_oracle._reachability(reach, 1000) == Status.LIMIT
         assert orc.stats.opt_by_reachability is None
         assert orc.solving.side_work == 0  # nor does the referee count its states
+
+
+@SETTINGS
+@given(fam=families(), data=st.data())
+def test_opt_reachability_alongside_sat_matches_dijkstra(fam: GroundFamily, data):
+    """With one-conflict solver chunks and the check from the first conflict on, the
+    reachability proof runs between SAT's chunks: every answer still matches Dijkstra."""
+    opts = Options(
+        first_chunk=1, solve_chunk=1, opt_reachability_conflicts=1, opt_reachability_probe_rate=1
+    )
+    with SatOracles(fam, options=opts) as orc:
+        for _ in range(3):
+            check_opt(fam, orc, data.draw(selections(fam.n_updates)))
+
+
+def test_opt_proves_unsolvable_alongside_a_hard_sat_horizon():
+    """usar-fetch Delta30 p2 with updates {19, 20}: every horizon up to 16 steps is UNSAT and
+    the 16-step call alone takes tens of seconds; the relevant part of the model has 894
+    reachable states, exhausted between the first solver chunks once SAT has spent
+    ``opt_reachability_conflicts`` conflicts."""
+    from pathlib import Path
+
+    from mega_sat.ground.grounding import ground
+    from mega_sat.pddl.loading import load_task_dir
+
+    d = Path(__file__).resolve().parent.parent / "domains" / "usar-fetch" / "delta" / "30" / "p2"
+    fam = ground(load_task_dir(d))
+    opts = Options(opt_reachability_conflicts=2000)
+    with SatOracles(fam, options=opts) as orc:
+        r = orc.opt(frozenset({19, 20}))
+        assert r.status == Status.UNSOLVABLE and r.exact
+        assert "while SAT looked for a plan" in r.reason
+        assert orc.stats.opt_by_reachability == 1
+        assert orc.solving.conflicts() < 20_000
 
 
 @SETTINGS

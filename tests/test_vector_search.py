@@ -11,7 +11,11 @@ from mega_sat.ground.family import GroundTask, StripsAction
 from mega_sat.ground.relevance import relevant_part
 from mega_sat.search import astar as astar_mod
 from mega_sat.search.astar import _python_uniform_cost_steps, _successor_groups
-from mega_sat.search.vector_search import goal_reachable, vector_uniform_cost_steps
+from mega_sat.search.vector_search import (
+    Reachability,
+    goal_reachable,
+    vector_uniform_cost_steps,
+)
 from mega_sat.status import Status
 
 
@@ -138,3 +142,19 @@ def test_goal_reachable_agrees_with_search(task, node_limit):
         assert verdict == (Status.UNSOLVABLE if exhausted else Status.LIMIT)
     if node_limit is None:
         assert verdict == (Status.PLAN if full[0] == Status.OPTIMAL else Status.UNSOLVABLE)
+
+
+@settings(max_examples=200, deadline=None)
+@given(strips_tasks(), st.lists(st.integers(0, 30), min_size=1, max_size=5))
+def test_reachability_resumed_in_steps_is_one_run(task, limits):
+    """Resumed with growing state limits, the check ends with the verdict and the count of a
+    single run, and each intermediate LIMIT stays within its limit."""
+    one, expanded = goal_reachable(task)
+    reach = Reachability(task)
+    for limit in sorted(limits):
+        verdict = reach.run(limit)
+        assert reach.expanded <= limit or verdict != Status.LIMIT
+        if verdict != Status.LIMIT:
+            assert verdict == one
+    assert reach.run() == one and reach.expanded == expanded
+    assert reach.run(0) == one  # decided: asked again, the same answer

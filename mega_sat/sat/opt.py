@@ -37,6 +37,10 @@ if TYPE_CHECKING:
 _INF = float("inf")
 
 
+class _Unreachable(Exception):
+    """Raised between solver chunks when the model is proven to have no plan."""
+
+
 def cheaper(task: GroundTask, found, plan, best):
     """``(plan, best)``, or ``found`` after action elimination if it is cheaper."""
     if found is None:
@@ -190,24 +194,60 @@ class OptOracle:
         if (best is None or best > lb_cost) and self.search_first(task, best is not None):
             plan, best = cheaper(task, self.tighten_extra(sel), plan, best)
             solving.check()
-        cap = self.options.horizon_cap
+        opts = self.options
+        cap = opts.horizon_cap
         h = min(max(lb_steps, 1), cap)
-        reach_tried = False
-        while plan is None:
-            calls += 1
-            if solving.solve(solver, sel_lits + orc.goal_assumptions(enc, h)):
-                plan = enc.decode_plan(solver.get_model(), h)
-                break
-            if h >= cap:
-                break
-            if not reach_tried and h >= self.options.opt_reachability_steps:
-                reach_tried = True
-                if self._unreachable(task):
+        reach: list = []  # the model's reachable states, explored once SAT needs long
+        start = solving.conflicts()
+
+        def reachable(limit: int) -> Status:
+            if not reach:
+                # numpy's import (about 60 ms) is paid only by the runs that need the proof
+                from mega_sat.search.vector_search import Reachability
+
+                reach.append(Reachability(task))
+            return self._reachability(reach[0], limit)
+
+        def probe() -> None:
+            """Between solver chunks, once the first-plan search has spent
+            ``opt_reachability_conflicts`` conflicts: exhaust the model's reachable states
+            alongside, ``opt_reachability_probe_rate`` states per conflict spent (at most
+            ``opt_reachability_nodes``), so that the check costs about what SAT spends.  The
+            relevant part of a model whose unsolvable horizons are hard for SAT is often
+            small; the check never touches the solver, so a model with a plan is answered
+            as before."""
+            spent = None if start is None else solving.conflicts() - start
+            if spent is None or spent < opts.opt_reachability_conflicts:
+                return
+            limit = min(opts.opt_reachability_probe_rate * spent, opts.opt_reachability_nodes)
+            if reachable(limit) == Status.UNSOLVABLE:
+                raise _Unreachable
+
+        solving.between_chunks = probe
+        try:
+            while plan is None:
+                calls += 1
+                if solving.solve(solver, sel_lits + orc.goal_assumptions(enc, h)):
+                    plan = enc.decode_plan(solver.get_model(), h)
+                    break
+                if h >= cap:
+                    break
+                if (
+                    h >= opts.opt_reachability_steps
+                    and reachable(opts.opt_reachability_nodes) == Status.UNSOLVABLE
+                ):
                     return done(
                         Status.UNSOLVABLE, None, None, True,
                         f"no plan within {h} steps, and no reachable state satisfies the goal",
                     )  # fmt: skip
-            h = min(2 * h, cap)
+                h = min(2 * h, cap)
+        except _Unreachable:
+            return done(
+                Status.UNSOLVABLE, None, None, True,
+                "no reachable state satisfies the goal (checked while SAT looked for a plan)",
+            )  # fmt: skip
+        finally:
+            solving.between_chunks = None
         if plan is None:
             return self._fallback(task, calls, t0)
         if best is None:
@@ -286,31 +326,30 @@ class OptOracle:
                 best = (c, plan)
         return None if best is None else best[1]
 
-    def _unreachable(self, task: GroundTask) -> bool:
-        """Whether exhausting the reachable states of ``task`` (at most
-        ``opt_reachability_nodes``) proves it unsolvable.  Asked once per call, when SAT has
-        found no plan within ``opt_reachability_steps`` steps: an unsolvable model has no
-        horizon that proves it, and its SAT calls grow harder up to the cap.  Its states do
-        not count as work for the portfolio's referee: a proof ends the call at once (the
+    def _reachability(self, reach, node_limit: int) -> Status:
+        """Go on exhausting the reachable states of ``reach``
+        (:class:`mega_sat.search.vector_search.Reachability`) up to ``node_limit`` in all:
+        ``UNSOLVABLE`` proves the model has no plan, ``PLAN`` that some reachable state
+        satisfies the goal, ``LIMIT`` nothing yet.  Asked alongside SAT's search for a first
+        plan and once no plan fits ``opt_reachability_steps`` steps: an unsolvable model has
+        no horizon that proves it, and its SAT calls grow harder up to the cap.  Its states
+        do not count as work for the portfolio's referee: a proof ends the call at once (the
         answer is the same whoever gives it), and a check that proves nothing should not make
         the referee wait for the search to catch up with it."""
-        # numpy's import (about 60 ms) is paid only by the runs that need the proof
-        from mega_sat.search.vector_search import goal_reachable
-
         solving = self.orc.solving
+        if reach.verdict is not None:
+            return reach.verdict
         t0 = time.perf_counter()
-        verdict, _ = goal_reachable(
-            task, node_limit=self.options.opt_reachability_nodes, deadline=solving.effective()
-        )
+        verdict = reach.run(node_limit, deadline=solving.effective())
         stats = self.stats
         stats.search_time_s = add_seconds(stats.search_time_s, time.perf_counter() - t0)
         if verdict == Status.TIMEOUT:
             raise OracleInterrupted("deadline reached")
         if verdict == Status.UNSOLVABLE:  # the answer; the referee need not weigh it
             stats.opt_by_reachability = bump(stats.opt_by_reachability)
-            return True
+            return verdict
         solving.check()
-        return False
+        return verdict
 
     # ------------------------------------------------------ past the horizon cap
     def _blind_search(self, task: GroundTask, *, timed: bool):

@@ -77,6 +77,9 @@ class Solving:
         self._deadline = NO_DEADLINE
         self._call_deadline = NO_DEADLINE
         self.stop_probe: Callable[[], bool] | None = None  # the portfolio's "search is done"
+        # called between the chunks of a call, after check(): a caller's side proof (it may
+        # raise to end the call); it never touches the solver, so the search path is the same
+        self.between_chunks: Callable[[], None] | None = None
         # work done outside the solvers (searches, integer programs), in search states, for
         # the portfolio's referee; it only grows, and counts the same on every run
         self.side_work = 0
@@ -188,6 +191,8 @@ class Solving:
                 return r
             self.rate[id(solver)] = (time.perf_counter() - t0) / chunk
             self.check()
+            if self.between_chunks is not None:
+                self.between_chunks()
             if left is not None:
                 left -= chunk
                 if left <= 0:

@@ -255,35 +255,59 @@ def vector_uniform_cost_steps(
 def goal_reachable(
     task: GroundTask, *, node_limit: int | None = None, deadline: Deadline | None = None
 ) -> tuple[Status, int]:
-    """Whether any state of ``task`` satisfies its goal, and the states expanded to find out,
-    by breadth-first reachability on numpy layers, costs ignored: ``PLAN`` once a reached state satisfies the goal, ``UNSOLVABLE`` once
-    every reachable state is expanded (a proof that ``task`` has no plan), ``LIMIT`` when that
-    would take more than ``node_limit`` expansions, ``TIMEOUT`` once ``deadline`` passes.  The
-    exhaustive searches that prove a model unsolvable need no order, so no costs either."""
-    deadline = deadline if deadline is not None else NO_DEADLINE
-    task = relevant_part(task)  # the same verdict, often on far fewer states
-    lay = _Layout(task, list(range(len(task.actions))))
-    at_goal = lay.goal_rows(task.goal)
-    closed = _Closed()
-    layer = lay.state(task.init)
-    expanded = 0
-    while len(layer):
-        keys = lay.keys(layer)
-        fresh = _first_new(keys, closed)
-        layer, keys = layer[fresh], keys[fresh]
-        if not len(layer):
-            break
-        if len(at_goal(layer)):
-            return Status.PLAN, expanded
-        if node_limit is not None and expanded + len(layer) > node_limit:
-            return Status.LIMIT, expanded
-        closed.add(keys)
-        successors = []
-        for lo in range(0, len(layer), _CHUNK):
-            if deadline.expired():
-                return Status.TIMEOUT, expanded
-            succ = lay.successors(layer[lo : lo + _CHUNK])[2]
-            successors.append(succ[np.sort(np.unique(lay.keys(succ), return_index=True)[1])])
-        expanded += len(layer)
-        layer = np.concatenate(successors) if successors else layer[:0]
-    return Status.UNSOLVABLE, expanded
+    """Whether any state of ``task`` satisfies its goal, and the states expanded to find out:
+    :meth:`Reachability.run` from scratch."""
+    reach = Reachability(task)
+    return reach.run(node_limit, deadline), reach.expanded
+
+
+class Reachability:
+    """Breadth-first reachability of ``task`` on numpy layers, costs ignored, that can be
+    resumed with a larger state limit: the exhaustive searches that prove a model unsolvable
+    need no order, so no costs either.  It runs on the relevant part of ``task`` (the same
+    verdict, often on far fewer states)."""
+
+    def __init__(self, task: GroundTask):
+        task = relevant_part(task)
+        self._lay = _Layout(task, list(range(len(task.actions))))
+        self._at_goal = self._lay.goal_rows(task.goal)
+        self._closed = _Closed()
+        self._layer = self._lay.state(task.init)
+        self._keys = None  # the keys of _layer once it holds only states not seen before
+        self.expanded = 0
+        self.verdict: Status | None = None  # once decided
+
+    def run(self, node_limit: int | None = None, deadline: Deadline | None = None) -> Status:
+        """``PLAN`` once a reached state satisfies the goal, ``UNSOLVABLE`` once every
+        reachable state is expanded (a proof that ``task`` has no plan), ``LIMIT`` when that
+        would take more than ``node_limit`` expansions in all, ``TIMEOUT`` once ``deadline``
+        passes.  After ``LIMIT`` or ``TIMEOUT`` a later call goes on where this one stopped."""
+        if self.verdict is not None:
+            return self.verdict
+        deadline = deadline if deadline is not None else NO_DEADLINE
+        lay, closed = self._lay, self._closed
+        while True:
+            if self._keys is None:  # a new layer: keep its states not seen before
+                keys = lay.keys(self._layer)
+                fresh = _first_new(keys, closed)
+                self._layer, self._keys = self._layer[fresh], keys[fresh]
+                if not len(self._layer):
+                    break
+                if len(self._at_goal(self._layer)):
+                    self.verdict = Status.PLAN
+                    return self.verdict
+            layer = self._layer
+            if node_limit is not None and self.expanded + len(layer) > node_limit:
+                return Status.LIMIT
+            successors = []
+            for lo in range(0, len(layer), _CHUNK):
+                if deadline.expired():
+                    return Status.TIMEOUT  # the layer is expanded again on the next call
+                succ = lay.successors(layer[lo : lo + _CHUNK])[2]
+                successors.append(succ[np.sort(np.unique(lay.keys(succ), return_index=True)[1])])
+            closed.add(self._keys)
+            self.expanded += len(layer)
+            self._layer = np.concatenate(successors) if successors else layer[:0]
+            self._keys = None
+        self.verdict = Status.UNSOLVABLE
+        return self.verdict
