@@ -807,3 +807,36 @@ def test_stats_as_dict_reports_the_used_counters_only():
     assert list(got)[-2:] == ["sat_joint_by_search", "sat_step_queries"]
     assert got["sat_step_queries"] == 0 and got["sat_joint_by_search"] == 2
     assert got["sat_opt_calls"] == 3 and len(got) == len(keys) + 2
+
+
+def test_dominance_cores_do_not_depend_on_the_clock(monkeypatch):
+    """usar-fetch Delta10 p2 shrinks its dominance cores by SAT trials and operator counting,
+    whichever has spent less *work* per settled trial: with every SAT trial made 50 ms
+    slower, the loop shrinks the same cores (by seconds it tried counting 10 times, not 2)."""
+    import time
+    from pathlib import Path
+
+    from mega_sat import api
+    from mega_sat.pddl.loading import load_task_dir
+    from mega_sat.sat.cores import CoreShrinker
+
+    d = Path(__file__).resolve().parent.parent / "domains" / "usar-fetch" / "delta" / "10" / "p2"
+    task = load_task_dir(d)
+    keys = ("core_min_calls", "counting_calls", "learned_literals", "iterations")
+
+    def run():
+        fr = api.MegaSolver(task).frontier()
+        stats = {k: v for k, v in fr.stats.items() if k.endswith(keys)}
+        return [(p.explanation, p.plan) for p in fr.points], stats
+
+    fast = run()
+    real = CoreShrinker._trial
+
+    def slow(self, *args, **kwargs):
+        time.sleep(0.05)
+        return real(self, *args, **kwargs)
+
+    monkeypatch.setattr(CoreShrinker, "_trial", slow)
+    slowed = run()
+    assert slowed == fast
+    assert fast[1]["sat_counting_calls"] >= 1 and fast[1]["sat_core_min_calls"] >= 1

@@ -30,7 +30,7 @@ class CoreShrinker:
         self.orc = orc
         self.options = orc.options
         self.stats = orc.stats
-        # per way of settling a deletion trial below the human optimum: [seconds, settled]
+        # per way of settling a deletion trial below the human optimum: [work, settled]
         self._trial_stats: dict[str, list[float]] = {"sat": [0.0, 0], "counting": [0.0, 0]}
 
     def minimize(
@@ -81,8 +81,8 @@ class CoreShrinker:
            at the family-wide horizon for cost ``K`` with ``dominance_trial_conflicts``
            conflicts, or by operator counting on the abstraction of the trial (a lower bound
            above ``K`` needs no horizon; only if it rules out the full assignment, whose
-           abstraction is the finest), whichever has taken less time per settled trial on this
-           task so far;
+           abstraction is the finest), whichever has taken less work per settled trial on this
+           task so far (:meth:`_trial_cost`);
         3. a trial neither settles gets the SAT call with up to ``core_conflict_budget``
            conflicts.  All SAT calls of one JOINT call together spend at most
            ``dominance_conflict_budget`` conflicts (``conflict_budget`` if smaller).
@@ -129,11 +129,12 @@ class CoreShrinker:
                 sorted(("sat", "counting"), key=self._trial_cost) if counting is not False else []
             )
             for way in ways:
-                started = time.perf_counter()
+                side = orc.solving.side_work
                 if way == "sat" and exact and left > 0:  # short: small tasks settle it at once
                     short = min(opts.dominance_trial_conflicts, left)
                     verdict, smaller, spent = self._trial(base, trial, short)
                     left, calls = left - spent, calls + 1
+                    work = spent * opts.race_nodes_per_conflict
                 elif way == "counting":
                     if counting is None:  # a trial's abstraction is coarser: no better bound
                         got = counting_bounds.bound(lits, above=robot_bound)
@@ -143,9 +144,10 @@ class CoreShrinker:
                     got = counting_bounds.bound(trial, above=robot_bound)
                     if got is not None and got > robot_bound:
                         verdict, smaller = False, trial
+                    work = orc.solving.side_work - side  # 0 for a cached bound
                 else:
                     continue
-                self._trial_stats[way][0] += time.perf_counter() - started
+                self._trial_stats[way][0] += work
                 self._trial_stats[way][1] += verdict is not None
                 if verdict is not None:
                     break
@@ -165,8 +167,11 @@ class CoreShrinker:
         return done(frozenset(core), why, calls)
 
     def _trial_cost(self, way: str) -> float:
-        """Seconds per settled deletion trial so far (0 before the first try, so each way is
-        tried once): which way is cheaper differs from domain to domain."""
+        """Work per settled deletion trial so far (0 before the first try, so each way is
+        tried once): which way is cheaper differs from domain to domain.  Work is counted as
+        the OPT portfolio's referee counts it (conflicts at ``race_nodes_per_conflict``
+        states each, an integer program at ``race_states_per_lp_action`` states per action),
+        not in seconds, so that every run shrinks the same cores."""
         spent, settled = self._trial_stats[way]
         return spent / max(settled, 1)
 
