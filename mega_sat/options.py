@@ -62,6 +62,13 @@ class Options:
             "most opt_reachability_nodes)"
         },
     )
+    pdr_queries: int = field(
+        default=500_000,
+        metadata={
+            "doc": "SAT calls of the inductive-invariant proof (IC3) that OPT tries once no "
+            "plan fits the horizon cap and the explicit search gave up"
+        },
+    )
     solve_chunk: int = field(
         default=5000,
         metadata={"doc": "conflicts per SAT solve chunk (the deadline is checked between chunks)"},

@@ -401,7 +401,33 @@ class OptOracle:
                     Status.OPTIMAL, cost, tuple(r.plan), True,
                     reason + "; solved by explicit-state search", calls, orc.finish("opt", t0),
                 )  # fmt: skip
+        reason += f"; explicit search gave {r.status}"
+        verdict = self._invariant(task)
+        if verdict == Status.UNSOLVABLE:
+            return OptResult(
+                Status.UNSOLVABLE, None, None, True,
+                reason + "; an inductive invariant (IC3) excludes the goal", calls,
+                orc.finish("opt", t0),
+            )  # fmt: skip
         return OptResult(
-            Status.LIMIT, None, None, False, reason + f"; explicit search gave {r.status}",
+            Status.LIMIT, None, None, False, reason + f"; IC3 gave {verdict.value}",
             calls, orc.finish("opt", t0),
         )  # fmt: skip
+
+    def _invariant(self, task: GroundTask) -> Status:
+        """IC3 (:mod:`mega_sat.search.pdr`) within ``pdr_queries`` SAT calls and the call's
+        deadline: where no plan fits the horizon cap and the explicit search gave up, the
+        model most likely has none, and only an invariant can show it."""
+        from mega_sat.search.pdr import Pdr
+
+        solving = self.orc.solving
+        t0 = time.perf_counter()
+        with Pdr(task) as pdr:
+            verdict = pdr.run(self.options.pdr_queries, deadline=solving.effective())
+        stats = self.stats
+        stats.search_time_s = add_seconds(stats.search_time_s, time.perf_counter() - t0)
+        if verdict == Status.TIMEOUT:
+            raise OracleInterrupted("deadline reached")
+        if verdict == Status.UNSOLVABLE:
+            stats.opt_by_invariant = bump(stats.opt_by_invariant)
+        return verdict

@@ -48,6 +48,7 @@ class OracleStats:
     step_bounds: int | None = None
     opt_by_search: int | None = None
     opt_by_reachability: int | None = None
+    opt_by_invariant: int | None = None
     joint_hint_used: int | None = None
     joint_by_dominance: int | None = None
     joint_by_human_dominance: int | None = None
