@@ -197,16 +197,17 @@ class OptOracle:
         opts = self.options
         cap = opts.horizon_cap
         h = min(max(lb_steps, 1), cap)
-        reach: list = []  # the model's reachable states, explored once SAT needs long
+        reach = None  # the model's reachable states, explored once SAT needs long
         start = solving.conflicts()
 
         def reachable(limit: int) -> Status:
-            if not reach:
+            nonlocal reach
+            if reach is None:
                 # numpy's import (about 60 ms) is paid only by the runs that need the proof
                 from mega_sat.search.vector_search import Reachability
 
-                reach.append(Reachability(task))
-            return self._reachability(reach[0], limit)
+                reach = Reachability(task)
+            return self._reachability(reach, limit)
 
         def probe() -> None:
             """Between solver chunks, once the first-plan search has spent
@@ -336,19 +337,25 @@ class OptOracle:
         do not count as work for the portfolio's referee: a proof ends the call at once (the
         answer is the same whoever gives it), and a check that proves nothing should not make
         the referee wait for the search to catch up with it."""
-        solving = self.orc.solving
-        if reach.verdict is not None:
-            return reach.verdict
+        verdict = self._side_proof(
+            lambda deadline: reach.run(node_limit, deadline=deadline), "opt_by_reachability"
+        )
+        if verdict != Status.UNSOLVABLE:
+            self.orc.solving.check()
+        return verdict
+
+    def _side_proof(self, prove, counter: str) -> Status:
+        """``prove(deadline)``, a proof outside the solver, within the call's deadline: its
+        seconds count as ``search_time_s``, a proof of "no plan" as ``counter``, and running
+        out of time raises :class:`OracleInterrupted` (nothing proven)."""
         t0 = time.perf_counter()
-        verdict = reach.run(node_limit, deadline=solving.effective())
+        verdict = prove(self.orc.solving.effective())
         stats = self.stats
         stats.search_time_s = add_seconds(stats.search_time_s, time.perf_counter() - t0)
         if verdict == Status.TIMEOUT:
             raise OracleInterrupted("deadline reached")
         if verdict == Status.UNSOLVABLE:  # the answer; the referee need not weigh it
-            stats.opt_by_reachability = bump(stats.opt_by_reachability)
-            return verdict
-        solving.check()
+            setattr(stats, counter, bump(getattr(stats, counter)))
         return verdict
 
     # ------------------------------------------------------ past the horizon cap
@@ -420,14 +427,8 @@ class OptOracle:
         model most likely has none, and only an invariant can show it."""
         from mega_sat.search.pdr import Pdr
 
-        solving = self.orc.solving
-        t0 = time.perf_counter()
         with Pdr(task) as pdr:
-            verdict = pdr.run(self.options.pdr_queries, deadline=solving.effective())
-        stats = self.stats
-        stats.search_time_s = add_seconds(stats.search_time_s, time.perf_counter() - t0)
-        if verdict == Status.TIMEOUT:
-            raise OracleInterrupted("deadline reached")
-        if verdict == Status.UNSOLVABLE:
-            stats.opt_by_invariant = bump(stats.opt_by_invariant)
-        return verdict
+            return self._side_proof(
+                lambda deadline: pdr.run(self.options.pdr_queries, deadline=deadline),
+                "opt_by_invariant",
+            )
