@@ -225,6 +225,14 @@ class Options:
             "(both cores; POSIX only); false: the two take turns in one process"
         },
     )
+    joint_pair_proofs: bool = field(
+        default=True,
+        metadata={
+            "doc": "the sat engine proves by h^2 on the product of the robot and the human "
+            "models which updates every solution needs (unit clauses) and which JOINT cores "
+            "hold at any cost bound (clauses without the plan's support)"
+        },
+    )
     joint_before_opt: bool = field(
         default=True,
         metadata={

@@ -137,8 +137,8 @@ def test_a_foreign_file_is_refused_unless_forced(tmp_path):
 
 
 def _slow_tasks(tmp_path: Path, n: int) -> list[str]:
-    """``n`` copies of a task that runs until its time limit (blocksworld at Δ = 30)."""
-    src = ROOT / "domains/blocksworld/delta/30/p1"
+    """``n`` copies of a task that runs until its time limit (rover-martian at Δ = 30: no point within a minute)."""
+    src = ROOT / "domains/rover-martian/delta/30/p2"
     dirs = []
     for k in range(n):
         d = tmp_path / f"slow{k}"

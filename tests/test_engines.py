@@ -60,8 +60,9 @@ def _pairs(points):
     st.sampled_from(["sat", "search", "portfolio"]),
     st.sampled_from([None, "builtin", "sat"]),
     st.booleans(),
+    st.booleans(),
 )
-def test_sat_frontier_equals_brute_force(task, hs, joint, planner, joint_first):
+def test_sat_frontier_equals_brute_force(task, hs, joint, planner, joint_first, pair_proofs):
     got = _solvable(task)
     if got is None:
         with pytest.raises(UnsolvableError):
@@ -78,7 +79,7 @@ def test_sat_frontier_equals_brute_force(task, hs, joint, planner, joint_first):
         hitting_set=hs,
         joint=joint,
         joint_conflict_budget=budget,
-        options=Options(joint_before_opt=joint_first),
+        options=Options(joint_before_opt=joint_first, joint_pair_proofs=pair_proofs),
     )
     assert fr.robot_optimal_cost == c_r
     assert _pairs(fr.points) == _pairs(pts)

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import time
 
+from mega_sat.analysis.joint_pairs import JointPairs
 from mega_sat.deadline import Deadline, TimeLimitReached
 from mega_sat.engines.hitting_set import make_hitting_set
 from mega_sat.engines.progress import Progress, lower_bound_note
@@ -177,6 +178,8 @@ def sat_frontier(
         "joint_searches": 0,
         "joint_before_opt_cores": 0,
         "joint_before_opt_plans": 0,
+        "explanation_landmarks": 0,
+        "joint_cores_without_plan": 0,
     }
     budget = _Budget(joint_conflict_budget, options)
     _searcher = []
@@ -254,11 +257,24 @@ def sat_frontier(
         if res.core is None:  # a search that records no core: exclude sel alone
             _learn(hs, exclusion_clause(sel, range(len(task.delta))), stats)
             return
-        on = {i for i, _ in res.core} | {i for i, _ in causal_support(family, sel, plan)}
+        on = {i for i, _ in res.core}
+        if pairs is not None and pairs.no_joint_plan(sel, frozenset(on)):
+            # no joint plan at any bound where sel's core holds: the plan's support (which
+            # only keeps the human bound valid) is not needed
+            stats["joint_cores_without_plan"] += 1
+            _learn(hs, exclusion_clause(sel, on), stats)
+            return
+        on |= {i for i, _ in causal_support(family, sel, plan)}
         _learn(hs, exclusion_clause(sel, on), stats)
 
     all_updates = range(len(task.delta))
     progress.stats = stats
+    pairs = JointPairs(family) if options.joint_pair_proofs else None
+    if pairs is not None:
+        # updates every solution needs, proven once: each a unit clause
+        for i in sorted(pairs.landmarks(deadline)):
+            stats["explanation_landmarks"] += 1
+            _learn(hs, ((i, True),), stats)
     try:
         while True:
             if deadline.expired():
