@@ -62,6 +62,15 @@ class Options:
             "most opt_reachability_nodes)"
         },
     )
+    opt_invariant_probe_rate: int = field(
+        default=4,
+        metadata={
+            "zero": True,
+            "doc": "SAT calls of the inductive-invariant proof (IC3) that SAT OPT may spend "
+            "per conflict of its search for a first plan, alongside the reachability check "
+            "(0: IC3 only past the horizon cap)",
+        },
+    )
     pdr_queries: int = field(
         default=500_000,
         metadata={

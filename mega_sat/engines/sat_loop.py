@@ -34,6 +34,7 @@ from mega_sat.options import DEFAULT, Options
 from mega_sat.pddl.update_costs import explanation_cost
 from mega_sat.planners.tiered_opt import Bounds, TieredOpt
 from mega_sat.results import Frontier, FrontierPoint, pareto_filter
+from mega_sat.sat.invariant_core import invariant_core
 from mega_sat.search.answers import JointResult
 from mega_sat.search.joint import JointSearcher, search_joint
 from mega_sat.status import Status
@@ -180,6 +181,7 @@ def sat_frontier(
         "joint_before_opt_plans": 0,
         "explanation_landmarks": 0,
         "joint_cores_without_plan": 0,
+        "invariant_cores": 0,
     }
     budget = _Budget(joint_conflict_budget, options)
     _searcher = []
@@ -343,16 +345,22 @@ def sat_frontier(
                     stats["unsolvable_models"] += 1
                     # the core's searches only shrink the exclusion, so they stop at the
                     # deadline: a smaller core is not worth running past the time limit
-                    short: list[int] = []
-                    on = unsolvable_core(
-                        family,
-                        sel,
-                        state_limit=options.unsolvable_core_states,
-                        work_limit=options.unsolvable_core_work,
-                        deadline=deadline,
-                        cut_short=short,
-                    )
-                    stats["unsolvable_core_cut_short"] += sum(short)
+                    cubes = orc.invariant(sel)
+                    if cubes is not None:
+                        # IC3's invariant, checked with the updates free one at a time
+                        on = invariant_core(family, sel, cubes)
+                        stats["invariant_cores"] += on is not None
+                    if on is None:
+                        short: list[int] = []
+                        on = unsolvable_core(
+                            family,
+                            sel,
+                            state_limit=options.unsolvable_core_states,
+                            work_limit=options.unsolvable_core_work,
+                            deadline=deadline,
+                            cut_short=short,
+                        )
+                        stats["unsolvable_core_cut_short"] += sum(short)
                 else:
                     exact = False
                     notes.append(f"OPT undecided for a model with |E|={len(sel)}: {opt.reason}")

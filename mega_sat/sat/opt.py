@@ -37,8 +37,37 @@ if TYPE_CHECKING:
 _INF = float("inf")
 
 
+class _LazyPdr:
+    """IC3 on one model, built at its first use and kept for the next (its frames are the
+    work done so far); ``solvable`` once it found the goal reachable."""
+
+    def __init__(self, task: GroundTask):
+        self.task = task
+        self.pdr = None
+        self.solvable = False
+
+    def get(self):
+        if self.pdr is None:
+            from mega_sat.search.pdr import Pdr
+
+            self.pdr = Pdr(self.task)
+        return self.pdr
+
+    def __enter__(self) -> _LazyPdr:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        if self.pdr is not None:
+            self.pdr.close()
+
+
 class _Unreachable(Exception):
-    """Raised between solver chunks when the model is proven to have no plan."""
+    """Raised between solver chunks when the model is proven to have no plan (``how``: by
+    which proof)."""
+
+    def __init__(self, how: str):
+        super().__init__(how)
+        self.how = how
 
 
 def cheaper(task: GroundTask, found, plan, best):
@@ -62,6 +91,8 @@ class OptOracle:
         # per selection: (cheapest action cost, cost every plan spends above N times it)
         self._extra: dict[frozenset[int], tuple[int, int]] = {}
         self._extra_searched: set[frozenset[int]] = set()
+        # per selection proven unsolvable by IC3: the invariant's cubes (for its core)
+        self.invariants: dict[frozenset[int], tuple[frozenset[tuple[int, bool]], ...]] = {}
         self.searches_hit = 0
         self.searches_missed = 0
         self.search_steps_saved = 0
@@ -213,44 +244,56 @@ class OptOracle:
             """Between solver chunks, once the first-plan search has spent
             ``opt_reachability_conflicts`` conflicts: exhaust the model's reachable states
             alongside, ``opt_reachability_probe_rate`` states per conflict spent (at most
-            ``opt_reachability_nodes``), so that the check costs about what SAT spends.  The
-            relevant part of a model whose unsolvable horizons are hard for SAT is often
-            small; the check never touches the solver, so a model with a plan is answered
-            as before."""
+            ``opt_reachability_nodes``), and build an inductive invariant (IC3),
+            ``opt_invariant_probe_rate`` of its SAT calls per conflict spent (at most
+            ``pdr_queries``), so that each check costs about what SAT spends.  The relevant
+            part of a model whose unsolvable horizons are hard for SAT is often small, and
+            where it is not, an invariant may still be; neither check touches the solver,
+            so a model with a plan is answered as before."""
             spent = None if start is None else solving.conflicts() - start
             if spent is None or spent < opts.opt_reachability_conflicts:
                 return
             limit = min(opts.opt_reachability_probe_rate * spent, opts.opt_reachability_nodes)
             if reachable(limit) == Status.UNSOLVABLE:
-                raise _Unreachable
+                raise _Unreachable("no reachable state satisfies the goal")
+            queries = min(opts.opt_invariant_probe_rate * spent, opts.pdr_queries)
+            if ic3.solvable or queries <= 0 or (ic3.pdr is not None and ic3.pdr.queries >= queries):
+                return
+            verdict = self._invariant(ic3.get(), queries)
+            if verdict == Status.UNSOLVABLE:
+                self.invariants[sel] = ic3.pdr.invariant()
+                raise _Unreachable("an inductive invariant (IC3) excludes the goal")
+            ic3.solvable = verdict == Status.PLAN  # SAT will find the plan
+            solving.check()  # the portfolio's referee may end the call here
 
-        solving.between_chunks = probe
-        try:
-            while plan is None:
-                calls += 1
-                if solving.solve(solver, sel_lits + orc.goal_assumptions(enc, h)):
-                    plan = enc.decode_plan(solver.get_model(), h)
-                    break
-                if h >= cap:
-                    break
-                if (
-                    h >= opts.opt_reachability_steps
-                    and reachable(opts.opt_reachability_nodes) == Status.UNSOLVABLE
-                ):
-                    return done(
-                        Status.UNSOLVABLE, None, None, True,
-                        f"no plan within {h} steps, and no reachable state satisfies the goal",
-                    )  # fmt: skip
-                h = min(2 * h, cap)
-        except _Unreachable:
-            return done(
-                Status.UNSOLVABLE, None, None, True,
-                "no reachable state satisfies the goal (checked while SAT looked for a plan)",
-            )  # fmt: skip
-        finally:
-            solving.between_chunks = None
-        if plan is None:
-            return self._fallback(task, calls, t0)
+        with _LazyPdr(task) as ic3:
+            solving.between_chunks = probe
+            try:
+                while plan is None:
+                    calls += 1
+                    if solving.solve(solver, sel_lits + orc.goal_assumptions(enc, h)):
+                        plan = enc.decode_plan(solver.get_model(), h)
+                        break
+                    if h >= cap:
+                        break
+                    if (
+                        h >= opts.opt_reachability_steps
+                        and reachable(opts.opt_reachability_nodes) == Status.UNSOLVABLE
+                    ):
+                        return done(
+                            Status.UNSOLVABLE, None, None, True,
+                            f"no plan within {h} steps, and no reachable state satisfies the goal",
+                        )  # fmt: skip
+                    h = min(2 * h, cap)
+            except _Unreachable as e:
+                return done(
+                    Status.UNSOLVABLE, None, None, True,
+                    f"{e.how} (checked while SAT looked for a plan)",
+                )  # fmt: skip
+            finally:
+                solving.between_chunks = None
+            if plan is None:
+                return self._fallback(sel, task, calls, t0, ic3)
         if best is None:
             plan, best = reduce_plan(task, plan)
 
@@ -390,8 +433,11 @@ class OptOracle:
         self.stats.opt_by_search = bump(self.stats.opt_by_search)
         return tuple(r.plan), int(r.cost), reason + "; solved by explicit-state search"
 
-    def _fallback(self, task: GroundTask, calls: int, t0: float) -> OptResult:
-        """No plan within the horizon cap: only an exhaustive explicit search can decide."""
+    def _fallback(
+        self, sel: frozenset[int], task: GroundTask, calls: int, t0: float, ic3: _LazyPdr
+    ) -> OptResult:
+        """No plan within the horizon cap: only an exhaustive explicit search can decide, or
+        an invariant (``ic3``: the IC3 run alongside SAT so far, continued here)."""
         orc = self.orc
         reason = f"no plan within the horizon cap {self.options.horizon_cap}"
         r = self._blind_search(task, timed=False)
@@ -409,8 +455,11 @@ class OptOracle:
                     reason + "; solved by explicit-state search", calls, orc.finish("opt", t0),
                 )  # fmt: skip
         reason += f"; explicit search gave {r.status}"
-        verdict = self._invariant(task)
+        verdict = (
+            Status.PLAN if ic3.solvable else self._invariant(ic3.get(), self.options.pdr_queries)
+        )
         if verdict == Status.UNSOLVABLE:
+            self.invariants[sel] = ic3.pdr.invariant()
             return OptResult(
                 Status.UNSOLVABLE, None, None, True,
                 reason + "; an inductive invariant (IC3) excludes the goal", calls,
@@ -421,14 +470,10 @@ class OptOracle:
             calls, orc.finish("opt", t0),
         )  # fmt: skip
 
-    def _invariant(self, task: GroundTask) -> Status:
-        """IC3 (:mod:`mega_sat.search.pdr`) within ``pdr_queries`` SAT calls and the call's
-        deadline: where no plan fits the horizon cap and the explicit search gave up, the
-        model most likely has none, and only an invariant can show it."""
-        from mega_sat.search.pdr import Pdr
-
-        with Pdr(task) as pdr:
-            return self._side_proof(
-                lambda deadline: pdr.run(self.options.pdr_queries, deadline=deadline),
-                "opt_by_invariant",
-            )
+    def _invariant(self, pdr, query_limit: int) -> Status:
+        """Go on with IC3 (:mod:`mega_sat.search.pdr`) up to ``query_limit`` SAT calls in all,
+        within the call's deadline: a model that no horizon proves unsolvable may have an
+        invariant that does."""
+        return self._side_proof(
+            lambda deadline: pdr.run(query_limit, deadline=deadline), "opt_by_invariant"
+        )

@@ -30,7 +30,7 @@ from pysat.solvers import Solver
 
 from mega_sat.deadline import NO_DEADLINE, Deadline
 from mega_sat.ground.family import GroundTask
-from mega_sat.ground.relevance import relevant_part
+from mega_sat.ground.relevance import relevant_atoms, relevant_part
 from mega_sat.status import Status
 
 Cube = frozenset[tuple[int, bool]]  # a set of states: (atom, value) literals
@@ -55,6 +55,7 @@ class Pdr:
         self._levels: list[int] = []  # activation literal of the clauses stored at level i + 1
         self._frames: list[list[Cube]] = [[]]  # cubes blocked at exactly level i (delta)
         self.queries = 0
+        self._fixpoint: int | None = None  # F_i = F_{i+1} for this i, once proven
 
     def close(self) -> None:
         self._solver.delete()
@@ -205,4 +206,22 @@ class Pdr:
                         self._frames[i].remove(cube)
                         self._block_at(cube, i + 1)
                 if not self._frames[i]:
+                    self._fixpoint = i
                     return Status.UNSOLVABLE  # F_i = F_{i+1}: an inductive invariant
+
+    def invariant(self) -> tuple[Cube, ...]:
+        """After ``UNSOLVABLE``: cubes whose negations together are an inductive invariant of
+        the relevant part that holds initially and excludes the goal (the clauses of the
+        fixpoint frame).  Literals on atoms outside the relevant part are dropped (those atoms
+        are false in every state of the relevant part, so a cube they are in stays the same
+        set of its states; a cube that needs one true is empty there and is left out), so the
+        invariant speaks only of atoms the goal depends on."""
+        if self._fixpoint is None:
+            raise ValueError("no invariant: the last run did not prove the task unsolvable")
+        keep = relevant_atoms(self.task)
+        out = []
+        for level in self._frames[self._fixpoint + 1 :]:
+            for cube in level:
+                if all(p in keep or not v for p, v in cube):
+                    out.append(frozenset((p, v) for p, v in cube if p in keep))
+        return tuple(out)
