@@ -63,7 +63,7 @@ class Options:
         },
     )
     opt_invariant_probe_rate: int = field(
-        default=4,
+        default=1,
         metadata={
             "zero": True,
             "doc": "SAT calls of the inductive-invariant proof (IC3) that SAT OPT may spend "
