@@ -58,7 +58,7 @@ def test_ic3_alongside_sat_is_exact(fam: GroundFamily, data):
                 assert r.status == Status.UNSOLVABLE and r.exact
             else:
                 assert r.status == Status.OPTIMAL and (r.cost == best or not r.exact)
-            if orc.invariant(sel) is not None:
+            if orc.take_invariant(sel) is not None:
                 assert best is None and "IC3" in r.reason
 
 
@@ -77,7 +77,8 @@ def test_ic3_alongside_sat_and_its_core_on_barman():
         r = orc.opt(sel)
         assert r.status == Status.UNSOLVABLE and r.exact
         assert "IC3" in r.reason and "while SAT looked for a plan" in r.reason
-        cubes = orc.invariant(sel)
+        cubes = orc.take_invariant(sel)
+        assert orc.take_invariant(sel) is None  # handed over once
     assert cubes
     core = invariant_core(fam, sel, cubes)
     assert core is not None and len(core) <= 10

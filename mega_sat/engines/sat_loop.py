@@ -272,12 +272,12 @@ def sat_frontier(
     all_updates = range(len(task.delta))
     progress.stats = stats
     pairs = JointPairs(family) if options.joint_pair_proofs else None
-    if pairs is not None:
-        # updates every solution needs, proven once: each a unit clause
-        for i in sorted(pairs.landmarks(deadline)):
-            stats["explanation_landmarks"] += 1
-            _learn(hs, ((i, True),), stats)
     try:
+        if pairs is not None:
+            # updates every solution needs, proven once: each a unit clause
+            for i in sorted(pairs.landmarks(deadline)):
+                stats["explanation_landmarks"] += 1
+                _learn(hs, ((i, True),), stats)
         while True:
             if deadline.expired():
                 time_out()
@@ -345,7 +345,7 @@ def sat_frontier(
                     stats["unsolvable_models"] += 1
                     # the core's searches only shrink the exclusion, so they stop at the
                     # deadline: a smaller core is not worth running past the time limit
-                    cubes = orc.invariant(sel)
+                    cubes = orc.take_invariant(sel)
                     if cubes is not None:
                         # IC3's invariant, checked with the updates free one at a time
                         on = invariant_core(family, sel, cubes)

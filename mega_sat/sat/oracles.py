@@ -153,10 +153,13 @@ class SatOracles:
         call = OracleCall("opt", selection=sel, cached=self.opt_oracle.cached(sel) is not None)
         return self._observed(call, lambda: self.opt_oracle.opt(sel))
 
-    def invariant(self, selection: Iterable[int]) -> tuple[frozenset[tuple[int, bool]], ...] | None:
+    def take_invariant(
+        self, selection: Iterable[int]
+    ) -> tuple[frozenset[tuple[int, bool]], ...] | None:
         """The cubes of the IC3 invariant that proved ``human + selection`` unsolvable, if OPT
-        proved it so (:mod:`mega_sat.sat.invariant_core` turns them into a core)."""
-        return self.opt_oracle.invariants.get(frozenset(selection))
+        proved it so (:mod:`mega_sat.sat.invariant_core` turns them into a core); handed
+        over once, so that a long run does not keep every invariant."""
+        return self.opt_oracle.invariants.pop(frozenset(selection), None)
 
     def plan_within(
         self, selection: Iterable[int], bound: int, budget: int
