@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 
 from mega_sat.ground.family import GroundFamily
 from mega_sat.options import Options
-from mega_sat.sat.invariant_core import invariant_core
+from mega_sat.sat.invariant_core import InvariantCores, invariant_core
 from mega_sat.sat.oracles import SatOracles
 from mega_sat.search.pdr import Pdr
 from mega_sat.status import Status
@@ -25,16 +25,19 @@ ROOT = Path(__file__).resolve().parent.parent
 @SETTINGS
 @given(fam=families(), data=st.data())
 def test_invariant_cores_exclude_only_models_without_a_plan(fam: GroundFamily, data):
-    sel = data.draw(selections(fam.n_updates))
-    with Pdr(fam.specialize(sel)) as pdr:
-        if pdr.run() != Status.UNSOLVABLE:
-            return
-        cubes = pdr.invariant()
-    core = invariant_core(fam, sel, cubes)
-    # the invariant is one of human + sel itself: with every update fixed it passes
-    assert core is not None
-    for other in agreeing([(i, i in sel) for i in core], fam.n_updates):
-        assert dijkstra(fam.specialize(other)) is None
+    # one solver for several invariants (as in the loop), and a fresh one per invariant
+    with InvariantCores(fam) as shared:
+        for _ in range(3):
+            sel = data.draw(selections(fam.n_updates))
+            with Pdr(fam.specialize(sel)) as pdr:
+                if pdr.run() != Status.UNSOLVABLE:
+                    continue
+                cubes = pdr.invariant()
+            for core in (shared.core(sel, cubes), invariant_core(fam, sel, cubes)):
+                # the invariant is one of human + sel itself: with every update fixed it passes
+                assert core is not None
+                for other in agreeing([(i, i in sel) for i in core], fam.n_updates):
+                    assert dijkstra(fam.specialize(other)) is None
 
 
 @SETTINGS

@@ -34,7 +34,7 @@ from mega_sat.options import DEFAULT, Options
 from mega_sat.pddl.update_costs import explanation_cost
 from mega_sat.planners.tiered_opt import Bounds, TieredOpt
 from mega_sat.results import Frontier, FrontierPoint, pareto_filter
-from mega_sat.sat.invariant_core import invariant_core
+from mega_sat.sat.invariant_core import InvariantCores
 from mega_sat.search.answers import JointResult
 from mega_sat.search.joint import JointSearcher, search_joint
 from mega_sat.status import Status
@@ -272,6 +272,7 @@ def sat_frontier(
     all_updates = range(len(task.delta))
     progress.stats = stats
     pairs = JointPairs(family) if options.joint_pair_proofs else None
+    inv_cores: InvariantCores | None = None  # built at the first IC3 invariant
     try:
         if pairs is not None:
             # updates every solution needs, proven once: each a unit clause
@@ -348,7 +349,9 @@ def sat_frontier(
                     cubes = orc.take_invariant(sel)
                     if cubes is not None:
                         # IC3's invariant, checked with the updates free one at a time
-                        on = invariant_core(family, sel, cubes)
+                        if inv_cores is None:
+                            inv_cores = InvariantCores(family)
+                        on = inv_cores.core(sel, cubes)
                         stats["invariant_cores"] += on is not None
                     if on is None:
                         short: list[int] = []
@@ -429,6 +432,8 @@ def sat_frontier(
             bound = res.robot_cost - 1
     finally:
         hs.close()
+        if inv_cores is not None:
+            inv_cores.close()
         if deadline.limited:
             orc.deadline = earlier_deadline
     pts = pareto_filter(points)

@@ -34,10 +34,12 @@ from mega_sat.ground.family import GroundFamily, Guard
 Cube = frozenset[tuple[int, bool]]
 
 
-class _StepEncoding:
-    """One family step with selector variables and the invariant's three queries."""
+class InvariantCores:
+    """One family step with selector variables on one solver, kept for every invariant the
+    loop hands over: each invariant's clauses sit under activation literals of their own,
+    retired once its core is found."""
 
-    def __init__(self, family: GroundFamily, cubes: Sequence[Cube], solver: str):
+    def __init__(self, family: GroundFamily, solver: str = "cadical195"):
         self.family = family
         n = len(family.atoms)
         self._top = 0
@@ -51,12 +53,16 @@ class _StepEncoding:
         self.goal_act = self._fresh()
         for p, g in family.goal:
             self._add([-self.goal_act, *self._absent(g), self.x[p]])
-        # I on x; "I fails" on x and on y (one auxiliary per cube: the cube holds)
-        self.inv_act = self._fresh()
-        for cube in cubes:
-            self._add([-self.inv_act, *(-self._lit(self.x, p, v) for p, v in cube)])
-        self.fails_x = self._fails(self.x, cubes)
-        self.fails_y = self._fails(self.y, cubes)
+        self._index = {v: i for i, v in enumerate(self.sel)}
+
+    def close(self) -> None:
+        self.solver.delete()
+
+    def __enter__(self) -> InvariantCores:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
 
     def _fresh(self) -> int:
         self._top += 1
@@ -150,12 +156,50 @@ class _StepEncoding:
         self._add([-act, *holders])
         return act
 
-    def unsat_core(self, query: list[int], fixed: list[int]) -> set[int] | None:
+    def _unsat_core(self, query: list[int], fixed: list[int]) -> set[int] | None:
         """The selectors of ``fixed`` (literals) the UNSAT ``query`` needs; None if SAT."""
         if self.solver.solve(assumptions=query + fixed):
             return None
         core = set(self.solver.get_core() or [])
         return {lit for lit in fixed if lit in core}
+
+    def core(self, selection: frozenset[int], cubes: Sequence[Cube]) -> frozenset[int] | None:
+        """A set ``S`` of updates such that the invariant ``NOT cube`` for every cube of
+        ``cubes`` (from IC3 on ``human + selection``) proves every ``E'`` agreeing with
+        ``selection`` on ``S`` unsolvable; ``None`` when it does not even prove
+        ``human + selection`` itself (then the invariant is not one of this model)."""
+        # I on x; "I fails" on x and on y (one auxiliary per cube: the cube holds)
+        inv = self._fresh()
+        for cube in cubes:
+            self._add([-inv, *(-self._lit(self.x, p, v) for p, v in cube)])
+        fails_x = self._fails(self.x, cubes)
+        fails_y = self._fails(self.y, cubes)
+        queries = [[self.init_act, fails_x], [inv, self.goal_act], [inv, fails_y]]
+
+        def needed(fixed: frozenset[int]) -> frozenset[int] | None:
+            lits = [self.sel[i] if i in selection else -self.sel[i] for i in sorted(fixed)]
+            need: set[int] = set()
+            for q in queries:
+                core = self._unsat_core(q, lits)
+                if core is None:
+                    return None
+                need |= core
+            return frozenset(self._index[abs(v)] for v in need)
+
+        try:
+            fixed = needed(frozenset(range(self.family.n_updates)))
+            if fixed is None:
+                return None
+            for i in sorted(fixed):
+                if i not in fixed:
+                    continue  # an earlier core dropped it
+                trial = needed(fixed - {i})
+                if trial is not None:
+                    fixed = trial
+            return fixed
+        finally:
+            for act in (inv, fails_x, fails_y):  # this invariant's clauses are satisfied now
+                self._add([-act])
 
 
 def invariant_core(
@@ -164,43 +208,6 @@ def invariant_core(
     cubes: Sequence[Cube],
     solver: str = "cadical195",
 ) -> frozenset[int] | None:
-    """A set ``S`` of updates such that the invariant ``NOT cube`` for every cube of
-    ``cubes`` (from IC3 on ``human + selection``) proves every ``E'`` agreeing with
-    ``selection`` on ``S`` unsolvable; ``None`` when it does not even prove
-    ``human + selection`` itself (then the invariant is not one of this model)."""
-    enc = _StepEncoding(family, cubes, solver)
-    try:
-        queries = [
-            [enc.init_act, enc.fails_x],
-            [enc.inv_act, enc.goal_act],
-            [enc.inv_act, enc.fails_y],
-        ]
-
-        def lit(i: int) -> int:
-            return enc.sel[i] if i in selection else -enc.sel[i]
-
-        def needed(fixed: frozenset[int]) -> frozenset[int] | None:
-            lits = [lit(i) for i in sorted(fixed)]
-            need: set[int] = set()
-            for q in queries:
-                core = enc.unsat_core(q, lits)
-                if core is None:
-                    return None
-                need |= core
-            return frozenset(abs(v) for v in need)
-
-        everything = frozenset(range(family.n_updates))
-        got = needed(everything)
-        if got is None:
-            return None
-        index = {v: i for i, v in enumerate(enc.sel)}
-        fixed = frozenset(index[v] for v in got)
-        for i in sorted(fixed):
-            if i not in fixed:
-                continue  # an earlier core dropped it
-            trial = needed(fixed - {i})
-            if trial is not None:
-                fixed = frozenset(index[v] for v in trial)
-        return fixed
-    finally:
-        enc.solver.delete()
+    """:meth:`InvariantCores.core` on a solver of its own (one invariant)."""
+    with InvariantCores(family, solver) as cores:
+        return cores.core(selection, cubes)
