@@ -71,6 +71,18 @@ def test_landmarks_are_in_every_selection_with_a_joint_plan(fam: GroundFamily):
             assert not joint_plan_exists(fam, other)
 
 
+@SETTINGS
+@given(fam=families())
+def test_landmarks_are_the_updates_whose_one_trial_proves(fam: GroundFamily):
+    """The seeded trials (and the early stop when the human model's own product reaches the
+    goal pairs) find exactly the updates whose unseeded product alone proves no joint plan."""
+    pairs = JointPairs(fam)
+    one_by_one = {
+        i for i in range(fam.n_updates) if pairs.no_joint_plan(frozenset(), frozenset({i}))
+    }
+    assert pairs.landmarks() == one_by_one
+
+
 @settings(max_examples=40, deadline=None, derandomize=True)
 @given(two_model_tasks(max_delta=5))
 def test_landmarks_are_in_every_frontier_explanation(task):

@@ -136,7 +136,8 @@ class FamilyEncoding(StepOrdering, CostBounds):
         # 0..t-1 in units; one comparator literal per (copy, horizon, bound in units)
         self.sum_bits: dict[str, list[list[int]]] = {c: [[]] for c in self.copies}
         self._cmp: dict[tuple[str, int, int], int] = {}
-        self._templates = {c: self._step_template(c) for c in self.copies}
+        # per-copy step clause templates, built with the first step (many tasks need none)
+        self._templates: dict[str, list[list[Lit]]] = {}
         self.prefix: list[list[int]] = []
         self.roles: list[dict[tuple[str, int], int]] = []
         self.partial_order = partial_order and symmetry_breaking
@@ -422,6 +423,8 @@ class FamilyEncoding(StepOrdering, CostBounds):
             bases = (0, a_base, self.x_base[c][t], x1, u_base)
             # the bulk of every step, resolved inline: a function call per literal and per
             # clause would dominate the time to build a step
+            if c not in self._templates:
+                self._templates[c] = self._step_template(c)
             sink, template = self._sink, self._templates[c]
             for clause in template:
                 sink([sign * (bases[kind] + off) for kind, off, sign in clause])

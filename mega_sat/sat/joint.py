@@ -51,9 +51,20 @@ class JointOracle:
         # robot model; the human copy's must hold for every selection (cores generalize)
         robot = orc.task(family.robot_selection)
         self.c_min_robot = min((a.cost for a in robot.actions), default=orc.c_min)
-        # cost the cheapest plan must spend above N * c_min (tightens the horizon)
-        self.extra_robot = extra_cost_exact(robot, self.c_min_robot, self.options.extra_node_limit)
-        self.extra_human = extra_cost_bound(family_relaxation(family), orc.c_min)
+
+    # the extra costs are computed at the first JOINT call that needs a horizon: many tasks
+    # are answered by a plan the loop already has
+
+    @cached_property
+    def extra_robot(self) -> int:
+        """Cost the robot's cheapest plan must spend above N * c_min (tightens the horizon)."""
+        robot = self.orc.task(self.orc.family.robot_selection)
+        return extra_cost_exact(robot, self.c_min_robot, self.options.extra_node_limit)
+
+    @cached_property
+    def extra_human(self) -> int:
+        """The same for the human copy, valid for every selection."""
+        return extra_cost_bound(family_relaxation(self.orc.family), self.orc.c_min)
 
     def horizon(self, robot_bound: int | None, human_bound: int) -> tuple[int, bool, str]:
         """Steps that every joint plan within the bounds fits in: ``min`` over the copies of
