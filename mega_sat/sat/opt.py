@@ -62,12 +62,8 @@ class _LazyPdr:
 
 
 class _Unreachable(Exception):
-    """Raised between solver chunks when the model is proven to have no plan (``how``: by
-    which proof)."""
-
-    def __init__(self, how: str):
-        super().__init__(how)
-        self.how = how
+    """Raised between solver chunks when the model is proven to have no plan (the message
+    says by which proof)."""
 
 
 def cheaper(task: GroundTask, found, plan, best):
@@ -288,7 +284,7 @@ class OptOracle:
             except _Unreachable as e:
                 return done(
                     Status.UNSOLVABLE, None, None, True,
-                    f"{e.how} (checked while SAT looked for a plan)",
+                    f"{e} (checked while SAT looked for a plan)",
                 )  # fmt: skip
             finally:
                 solving.between_chunks = None
