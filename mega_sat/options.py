@@ -121,6 +121,16 @@ class Options:
             "zero": True,
         },
     )
+    plan_below_robot_nodes: int = field(
+        default=3000,
+        metadata={
+            "doc": "expansions of the search pruned at the robot optimum that looks for that "
+            "cheaper human plan before the SAT call (its plan is the model's optimum, an "
+            "exhausted search proves there is none); halves after each miss, doubles after "
+            "each hit (0: SAT only)",
+            "zero": True,
+        },
+    )
     dominance_trial_conflicts: int = field(
         default=300,
         metadata={"doc": "conflicts of the short SAT call that first tries a dominance-core trial"},

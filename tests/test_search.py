@@ -15,7 +15,7 @@ from mega_sat.deadline import Deadline
 from mega_sat.ground.family import GroundTask, StripsAction
 from mega_sat.ground.grounding import ground, ground_model
 from mega_sat.ground.simulate import simulate_ground
-from mega_sat.search.astar import HEURISTICS, astar, solve_optimal
+from mega_sat.search.astar import HEURISTICS, astar, bounded_search, solve_optimal
 from mega_sat.status import Status
 
 
@@ -206,6 +206,24 @@ def token_tasks(draw) -> GroundTask:
 def test_astar_on_larger_state_spaces(gt):
     """Bigger spaces exercise reopening (LM-cut is not consistent) and the successor groups."""
     check_all_heuristics(gt)
+
+
+@settings(max_examples=40, deadline=None)
+@given(token_tasks(), st.integers(0, 12))
+def test_bounded_search_finds_the_optimum_within_the_bound_or_proves_none(gt, bound):
+    """The search the sat engine runs for a human plan below the robot optimum: within the
+    bound it returns the optimum itself (the loop then skips OPT); above it, a proof that no
+    plan costs that little (the loop raises its lower bound to the robot optimum)."""
+    expected = dijkstra(gt)
+    status, plan, cost = bounded_search(gt, bound, 10**6)
+    if expected is None or expected > bound:
+        assert (status, plan, cost) == (Status.INFEASIBLE, None, None)
+    else:
+        assert status == Status.OPTIMAL and cost == expected
+        sim = simulate_ground(gt, plan)
+        assert sim.valid and sim.cost == expected
+    if not gt.goal <= gt.init:  # the initial state is never goal-tested past the node budget
+        assert bounded_search(gt, bound, 0)[0] in (Status.LIMIT, Status.INFEASIBLE)
 
 
 def test_lmcut_admissible_on_a_shipped_family():

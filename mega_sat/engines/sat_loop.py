@@ -36,6 +36,7 @@ from mega_sat.planners.tiered_opt import Bounds, TieredOpt
 from mega_sat.results import Frontier, FrontierPoint, pareto_filter
 from mega_sat.sat.invariant_core import InvariantCores
 from mega_sat.search.answers import JointResult
+from mega_sat.search.astar import bounded_search
 from mega_sat.search.joint import JointSearcher, search_joint
 from mega_sat.status import Status
 
@@ -182,6 +183,7 @@ def sat_frontier(
         "explanation_landmarks": 0,
         "joint_cores_without_plan": 0,
         "invariant_cores": 0,
+        "plan_below_robot_by_search": 0,
     }
     budget = _Budget(joint_conflict_budget, options)
     _searcher = []
@@ -233,6 +235,8 @@ def sat_frontier(
         stats["joint_calls"] += 1
         return res
 
+    below_nodes = [options.plan_below_robot_nodes]
+
     def plan_below_robot(sel, known: Bounds) -> Bounds:
         """``known`` with a plan of ``human + sel`` cheaper than the robot optimum, when one
         is found and no action costs this model's human less than the robot: JOINT at its
@@ -246,6 +250,20 @@ def sat_frontier(
             or orc.joint_oracle.human_dominance_core([(i, i in sel) for i in all_updates]) is None
         ):
             return known
+        if below_nodes[0] > 0:
+            status, plan, cost = bounded_search(
+                family.specialize(sel), robot_lb - 1, below_nodes[0]
+            )
+            if status == Status.LIMIT:
+                below_nodes[0] = max(options.plan_below_robot_nodes // 64, below_nodes[0] // 2, 1)
+            else:
+                below_nodes[0] = min(options.plan_below_robot_nodes, 2 * below_nodes[0])
+            if status == Status.OPTIMAL:  # the model's optimum, proven by A*
+                stats["plan_below_robot_by_search"] += 1
+                return Bounds(cost, plan, cost)
+            if status == Status.INFEASIBLE:  # no plan below the robot optimum
+                stats["plan_below_robot_by_search"] += 1
+                return Bounds(robot_lb, known.plan, known.upper)
         got = orc.plan_within(sel, robot_lb - 1, budget)
         return known if got is None else Bounds(known.lower, got[0], got[1])
 

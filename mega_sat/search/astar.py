@@ -150,11 +150,14 @@ def astar_steps(
     heuristic: str = "lmcut",
     node_limit: int | None = None,
     every: int = _CHECK_EVERY,
+    bound: float = _INF,
 ):
     """A* with reopening as a generator that can be paused and resumed: it yields
     ``(expanded, evaluations)`` so far every ``every`` expansions (with LM-cut the heuristic
     evaluations are nearly all of the work) and returns ``(status, plan, cost, expanded,
-    evaluations)``."""
+    evaluations)``.  ``bound``: states whose f = g + h exceeds it are pruned (h is
+    admissible), and an exhausted search answers ``INFEASIBLE``: no plan costs at most
+    ``bound``."""
     min_cost = min((a.cost for a in task.actions), default=0)
     if heuristic == "blind":
 
@@ -168,9 +171,10 @@ def astar_steps(
             return fn(bits(s))
 
     expanded = evaluations = 0
+    none = Status.UNSOLVABLE if bound == _INF else Status.INFEASIBLE
     h0 = h_of(init)
-    if h0 == _INF:
-        return Status.UNSOLVABLE, None, None, 0, 1
+    if h0 == _INF or h0 > bound:
+        return none, None, None, 0, 1
     groups = _successor_groups(task)
     actions = task.actions
     mask = state_key_mask(len(task.atoms))
@@ -207,13 +211,35 @@ def astar_steps(
                 if h2 is None:
                     evaluations += 1
                     h2 = h_cache[k2] = h_of(s2)
-                if h2 == _INF:
+                if h2 == _INF or g2 + h2 > bound:
                     continue
                 best_g[k2] = g2
                 parent[k2] = (s, j)
                 counter += 1
                 heapq.heappush(open_list, (g2 + h2, h2, counter, g2, s2, k2))
-    return Status.UNSOLVABLE, None, None, expanded, evaluations
+    return none, None, None, expanded, evaluations
+
+
+def bounded_search(
+    task: GroundTask, bound: int, node_limit: int
+) -> tuple[Status, tuple[PlanStep, ...] | None, int | None]:
+    """A plan of ``task`` costing at most ``bound``, by A* with the blind heuristic (the least
+    action cost) pruned at ``bound``, within ``node_limit`` expansions: ``(OPTIMAL, plan,
+    cost)`` (the task's optimum, which is then within the bound), ``(INFEASIBLE, None, None)``
+    when no plan costs at most ``bound``, or ``(LIMIT, None, None)``.  Blind, because the
+    states below a bound near the optimum are few and LM-cut in pure Python costs more per
+    state than it prunes there (bench/README.md)."""
+    init = sum(1 << p for p in task.init)
+    goal = sum(1 << p for p in task.goal)
+    steps = astar_steps(task, init, goal, "blind", node_limit, bound=bound)
+    try:
+        while True:
+            next(steps)
+    except StopIteration as done:
+        status, plan, cost = done.value[:3]
+    if status == Status.UNSOLVABLE:
+        status = Status.INFEASIBLE
+    return status, plan, cost
 
 
 def _trace(
