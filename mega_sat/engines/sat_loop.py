@@ -240,7 +240,10 @@ def sat_frontier(
     def plan_below_robot(sel, known: Bounds) -> Bounds:
         """``known`` with a plan of ``human + sel`` cheaper than the robot optimum, when one
         is found and no action costs this model's human less than the robot: JOINT at its
-        cost then rules ``sel`` out without SAT and without OPT (encodings/hitting-set.md)."""
+        cost then rules ``sel`` out without SAT and without OPT (encodings/hitting-set.md).
+        A search pruned at the robot optimum tries first (its plan is the optimum, so the
+        lower bound is its cost; a search that runs out of states proves the robot optimum
+        a lower bound), then one SAT call."""
         budget = options.plan_below_robot_conflicts
         if (
             budget <= 0
