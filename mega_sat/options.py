@@ -223,6 +223,15 @@ class Options:
             "search by work)"
         },
     )
+    race_side_vector_weight: float = field(
+        default=0.1,
+        metadata={
+            "doc": "the work, in the race's explicit-search units, of one vectorised expansion "
+            "(past the first 2048) of the lowered-cost search SAT OPT runs first, which counts "
+            "on SAT's side of the exchange (a pure-Python expansion counts 1; a vectorised one "
+            "takes about a tenth of its time)"
+        },
+    )
     race_states_per_lp_action: int = field(
         default=20,
         metadata={

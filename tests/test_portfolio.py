@@ -188,3 +188,26 @@ def test_portfolio_past_its_deadline_says_timeout_not_an_answer():
     planner = NodePlanner(None, fam, "portfolio", deadline=Deadline.after(1e-9))
     with pytest.raises(TimeLimitReached):
         planner.optimal(frozenset())
+
+
+def test_side_work_counts_vectorised_expansions_at_their_weight():
+    """SAT OPT's lowered-cost search counts on SAT's side of the race: its first 2048
+    expansions (pure Python) count 1 each, the vectorised ones after them
+    ``Options.race_side_vector_weight`` each."""
+    from pathlib import Path
+
+    from mega_sat.ground.grounding import ground
+    from mega_sat.pddl.loading import load_task_dir
+    from mega_sat.sat.oracles import SatOracles
+    from mega_sat.search.astar import uniform_cost_work
+
+    root = Path(__file__).resolve().parent.parent
+    fam = ground(load_task_dir(root / "domains" / "rover-martian" / "delta" / "2" / "p3"))
+    side = {}
+    for weight in (1.0, 0.1):
+        orc = SatOracles(fam, options=Options(race_side_vector_weight=weight))
+        orc.opt_oracle.tighten_extra(fam.robot_selection)
+        side[weight] = orc.solving.side_work
+    assert side[1.0] > 2048  # the search went past its pure-Python start
+    assert side[0.1] == pytest.approx(uniform_cost_work(int(side[1.0]), 0.1))
+    assert side[0.1] == pytest.approx(2048 + 0.1 * (side[1.0] - 2048))

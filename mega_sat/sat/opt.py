@@ -26,7 +26,7 @@ from mega_sat.sat.encoding import HUMAN
 from mega_sat.sat.solving import OracleInterrupted
 from mega_sat.sat.stats import add_seconds, bump
 from mega_sat.search.answers import OptResult
-from mega_sat.search.astar import astar
+from mega_sat.search.astar import astar, uniform_cost_work
 from mega_sat.search.lowered_cost import extra_cost_search
 from mega_sat.search.plan_reduction import reduce_plan
 from mega_sat.status import Status
@@ -139,7 +139,8 @@ class OptOracle:
         t0 = time.perf_counter()
         spent: list[int] = []
         x, plan = extra_cost_search(self.orc.task(sel), c, self.options.opt_extra_node_limit, spent)
-        self.orc.solving.side_work += sum(spent)
+        vector_weight = self.options.race_side_vector_weight
+        self.orc.solving.side_work += sum(uniform_cost_work(n, vector_weight) for n in spent)
         stats = self.stats
         stats.search_time_s = add_seconds(stats.search_time_s, time.perf_counter() - t0)
         self._extra[sel] = (c, max(extra, x))

@@ -362,6 +362,12 @@ def _python_uniform_cost_steps(
     return Status.UNSOLVABLE, None, None, expanded
 
 
+def uniform_cost_work(expanded: int, vector_weight: float) -> float:
+    """The work of ``expanded`` uniform-cost expansions counted in pure-Python ones: those
+    past the first ``_VECTOR_AFTER`` run vectorised and count ``vector_weight`` each."""
+    return min(expanded, _VECTOR_AFTER) + vector_weight * max(expanded - _VECTOR_AFTER, 0)
+
+
 def _evaluations(steps):
     """:func:`astar_steps` with its progress as the evaluation count alone (its work), and
     the same return value."""
