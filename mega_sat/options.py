@@ -122,12 +122,13 @@ class Options:
         },
     )
     plan_below_robot_nodes: int = field(
-        default=3000,
+        default=0,
         metadata={
             "doc": "expansions of the search pruned at the robot optimum that looks for that "
             "cheaper human plan before the SAT call (its plan is the model's optimum, an "
             "exhausted search proves there is none); halves after each miss, doubles after "
-            "each hit (0: SAT only)",
+            "each hit (0: SAT only; faster on small tasks, but its plans lead some large ones "
+            "a longer way, bench/README.md)",
             "zero": True,
         },
     )

@@ -61,8 +61,11 @@ def _pairs(points):
     st.sampled_from([None, "builtin", "sat"]),
     st.booleans(),
     st.booleans(),
+    st.sampled_from([0, 3000]),
 )
-def test_sat_frontier_equals_brute_force(task, hs, joint, planner, joint_first, pair_proofs):
+def test_sat_frontier_equals_brute_force(
+    task, hs, joint, planner, joint_first, pair_proofs, below_nodes
+):
     got = _solvable(task)
     if got is None:
         with pytest.raises(UnsolvableError):
@@ -79,7 +82,11 @@ def test_sat_frontier_equals_brute_force(task, hs, joint, planner, joint_first, 
         hitting_set=hs,
         joint=joint,
         joint_conflict_budget=budget,
-        options=Options(joint_before_opt=joint_first, joint_pair_proofs=pair_proofs),
+        options=Options(
+            joint_before_opt=joint_first,
+            joint_pair_proofs=pair_proofs,
+            plan_below_robot_nodes=below_nodes,  # the search below the robot optimum
+        ),
     )
     assert fr.robot_optimal_cost == c_r
     assert _pairs(fr.points) == _pairs(pts)
