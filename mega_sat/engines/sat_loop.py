@@ -32,7 +32,7 @@ from mega_sat.ground.family import GroundFamily
 from mega_sat.model.task import TwoModelTask
 from mega_sat.options import DEFAULT, Options
 from mega_sat.pddl.update_costs import explanation_cost
-from mega_sat.planners.tiered_opt import Bounds, TieredOpt
+from mega_sat.planners.tiered_opt import Bounds, NodeBudget, TieredOpt
 from mega_sat.results import Frontier, FrontierPoint, pareto_filter
 from mega_sat.sat.invariant_core import InvariantCores
 from mega_sat.search.answers import JointResult
@@ -235,7 +235,7 @@ def sat_frontier(
         stats["joint_calls"] += 1
         return res
 
-    below_nodes = [options.plan_below_robot_nodes]
+    below_nodes = NodeBudget(options.plan_below_robot_nodes)
 
     def plan_below_robot(sel, known: Bounds) -> Bounds:
         """``known`` with a plan of ``human + sel`` cheaper than the robot optimum, when one
@@ -253,14 +253,11 @@ def sat_frontier(
             or orc.joint_oracle.human_dominance_core([(i, i in sel) for i in all_updates]) is None
         ):
             return known
-        if below_nodes[0] > 0:
+        if below_nodes.nodes > 0:
             status, plan, cost = bounded_search(
-                family.specialize(sel), robot_lb - 1, below_nodes[0]
+                family.specialize(sel), robot_lb - 1, below_nodes.now
             )
-            if status == Status.LIMIT:
-                below_nodes[0] = max(options.plan_below_robot_nodes // 64, below_nodes[0] // 2, 1)
-            else:
-                below_nodes[0] = min(options.plan_below_robot_nodes, 2 * below_nodes[0])
+            below_nodes.record(status != Status.LIMIT)
             if status == Status.OPTIMAL:  # the model's optimum, proven by A*
                 stats["plan_below_robot_by_search"] += 1
                 return Bounds(cost, plan, cost)

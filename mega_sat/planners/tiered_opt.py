@@ -50,6 +50,22 @@ class Bounds:
     upper: int | None
 
 
+class NodeBudget:
+    """A node budget for searches that may run out: it halves after each miss (down to 1/64
+    of ``nodes``) and doubles after each hit (up to ``nodes``), so a search that keeps
+    missing on a task costs little there."""
+
+    def __init__(self, nodes: int):
+        self.nodes = nodes
+        self.now = nodes
+
+    def record(self, hit: bool) -> None:
+        if hit:
+            self.now = min(self.nodes, 2 * self.now)
+        else:
+            self.now = max(self.nodes // 64, self.now // 2, 1)
+
+
 class TieredOpt:
     """``optimal(selection)`` through the tiers above, then ``planner`` (whose options the
     tiers share; the planner call runs within its deadline)."""
@@ -62,7 +78,7 @@ class TieredOpt:
         quick_nodes = (options or planner.options).quick_nodes
         # the built-in planner starts with the same uniform-cost search: no quick tier then
         self.quick_nodes = 0 if planner.kind == "builtin" else quick_nodes
-        self.quick_budget = self.quick_nodes  # halves after each miss, doubles after a hit
+        self.quick_budget = NodeBudget(self.quick_nodes)
         self._plans: list[tuple[PlanStep, ...]] = []
         self._seen: set[tuple[PlanStep, ...]] = set()
         self.stats = {
@@ -139,12 +155,11 @@ class TieredOpt:
         if self.quick_nodes:
             # no deadline: the node budget bounds it, and a proof it finds is kept even at the
             # deadline (the loop then still reports the robot optimum and a lower bound)
-            r = astar(task, heuristic="blind", node_limit=self.quick_budget)
-            if r.status.decided:
-                self.quick_budget = min(self.quick_nodes, 2 * self.quick_budget)
-                return self._done(r.status, r.plan, r.cost, "quick_search", t0)
+            r = astar(task, heuristic="blind", node_limit=self.quick_budget.now)
             # where it keeps running out, it is mostly overhead: try it smaller next time
-            self.quick_budget = max(self.quick_nodes // 64, self.quick_budget // 2, 1)
+            self.quick_budget.record(r.status.decided)
+            if r.status.decided:
+                return self._done(r.status, r.plan, r.cost, "quick_search", t0)
         self.stats["opt_by_planner"] += 1
         r = self.planner.optimal(sel)
         if r.status.decided:  # which planner answered (the portfolio's winner)

@@ -236,10 +236,7 @@ def bounded_search(
         while True:
             next(steps)
     except StopIteration as done:
-        status, plan, cost = done.value[:3]
-    if status == Status.UNSOLVABLE:
-        status = Status.INFEASIBLE
-    return status, plan, cost
+        return done.value[:3]
 
 
 def _trace(
