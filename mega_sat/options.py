@@ -262,6 +262,14 @@ class Options:
             "hold at any cost bound (clauses without the plan's support)"
         },
     )
+    monotone_cores: bool = field(
+        default=True,
+        metadata={
+            "doc": "drop from every core the updates whose other value only removes plans, "
+            "and from a plan's support those whose other value only adds plans "
+            '(encodings/hitting-set.md, "Monotone updates")'
+        },
+    )
     joint_before_opt: bool = field(
         default=True,
         metadata={

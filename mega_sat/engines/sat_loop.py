@@ -24,6 +24,7 @@ from __future__ import annotations
 import time
 
 from mega_sat.analysis.joint_pairs import JointPairs
+from mega_sat.analysis.monotone import drop_relaxing, drop_restricting
 from mega_sat.deadline import Deadline, TimeLimitReached
 from mega_sat.engines.hitting_set import make_hitting_set
 from mega_sat.engines.progress import Progress, lower_bound_note
@@ -275,19 +276,22 @@ def sat_frontier(
             exact = False
             notes.append(f"JOINT not exact (|E|={len(sel)}): {res.reason}")
         if res.core is None:  # a search that records no core: exclude sel alone
-            _learn(hs, exclusion_clause(sel, range(len(task.delta))), stats)
+            _learn(hs, exclusion_clause(sel, all_updates), stats)
             return
-        on = {i for i, _ in res.core}
+        # "no joint plan within the bounds" survives moves to sub-models, "plan runs within
+        # the human bound" moves to super-models: each side drops the other's literals
+        on = {i for i, _ in drop_relaxing(res.core, restricting)}
         if pairs is not None and pairs.no_joint_plan(sel, frozenset(on)):
             # no joint plan at any bound where sel's core holds: the plan's support (which
             # only keeps the human bound valid) is not needed
             stats["joint_cores_without_plan"] += 1
             _learn(hs, exclusion_clause(sel, on), stats)
             return
-        on |= {i for i, _ in causal_support(family, sel, plan)}
+        on |= {i for i, _ in drop_restricting(causal_support(family, sel, plan), restricting)}
         _learn(hs, exclusion_clause(sel, on), stats)
 
     all_updates = range(len(task.delta))
+    restricting = orc.restricting
     progress.stats = stats
     pairs = JointPairs(family) if options.joint_pair_proofs else None
     inv_cores: InvariantCores | None = None  # built at the first IC3 invariant
@@ -385,11 +389,10 @@ def sat_frontier(
                 else:
                     exact = False
                     notes.append(f"OPT undecided for a model with |E|={len(sel)}: {opt.reason}")
-                _learn(
-                    hs,
-                    exclusion_clause(sel, on if on is not None else range(len(task.delta))),
-                    stats,
-                )
+                on = all_updates if on is None else on
+                if opt.status == Status.UNSOLVABLE:  # "no plan" holds in every sub-model
+                    on = {i for i, _ in drop_relaxing(((i, i in sel) for i in on), restricting)}
+                _learn(hs, exclusion_clause(sel, on), stats)
                 continue
             if opt is not None and not opt.exact:
                 exact = False

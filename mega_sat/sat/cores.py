@@ -13,6 +13,7 @@ import time
 from collections.abc import Iterable
 from typing import TYPE_CHECKING
 
+from mega_sat.analysis.monotone import drop_relaxing
 from mega_sat.ground.family import GuardLit
 from mega_sat.sat.encoding import HUMAN
 from mega_sat.sat.stats import bump
@@ -39,6 +40,9 @@ class CoreShrinker:
         """Deletion-based shrinking of the selector part of an UNSAT core of the JOINT solver
         under ``base + sel_lits``; the core and the SAT calls spent.
 
+        Literals at their update's relaxing value are left out without a call: the other value
+        only removes plans, so the core holds without them (:mod:`mega_sat.analysis.monotone`);
+        they stay assumed in the trials, which keeps each call as constrained as the first.
         Each step drops one literal and re-solves (``core_conflict_budget`` conflicts); an
         UNSAT answer keeps the (possibly smaller) new core, SAT or budget-out keeps the literal.
         At most ``core_calls`` calls: the result is always a core, minimal only if the loop
@@ -47,7 +51,12 @@ class CoreShrinker:
         orc, opts = self.orc, self.options
         solver = orc.solving.joint_solver
         in_core = set(raw_core)
-        core = [lit for lit in sel_lits if lit in in_core]
+        # a literal at its update's relaxing value is never needed in the core: it stays
+        # assumed in every trial (a more constrained, cheaper call) and is left out at the end
+        keep = orc.restricting
+        relaxing = [lit for lit in sel_lits if keep.get(abs(lit) - 1, lit > 0) != (lit > 0)]
+        base = base + relaxing
+        core = [lit for lit in sel_lits if lit in in_core and lit not in relaxing]
         calls = 0
         i = 0
         # a one-literal core is kept as is: the empty core (no selection at all) is rare and
@@ -73,7 +82,8 @@ class CoreShrinker:
         Every joint plan then has human cost <= robot cost <= K, so "no plan of cost <= K in
         ``human + E'``" rules it out; for ``E`` itself that is proven already (``K < c*``), so
         the full assignment is a core and the work is to shrink it to one that generalizes,
-        cheapest argument first:
+        cheapest argument first (after the literals at a relaxing value, which no such core
+        needs, :mod:`mega_sat.analysis.monotone`):
 
         1. an earlier core "no plan of cost <= K' (>= K)" that ``E`` agrees with (no solving);
         2. deletion, while operator counting is on for the task: each trial (the core without
@@ -117,7 +127,13 @@ class CoreShrinker:
         if conflict_budget is not None:
             left = min(left, conflict_budget)
         counting_bounds = orc.counting
-        core, calls, i = list(lits), 0, 0
+        # literals at a relaxing value are never needed in the core; they stay assumed in the
+        # trials (cheaper calls, tighter bounds) and are left out of the result
+        need = drop_relaxing(lits, orc.restricting)
+        relaxing = [g for g in lits if g not in need]
+        if exact:
+            base = base + enc.lits_assumptions(relaxing)
+        core, calls, i = [g for g in lits if g in need], 0, 0
         counting: bool | None = None if counting_bounds.enabled else False
         # a one-literal core is kept as is (as in minimize)
         while len(core) > 1 and i < len(core) and calls < opts.core_calls:
@@ -141,7 +157,7 @@ class CoreShrinker:
                         counting = got is not None and got > robot_bound
                         if not counting:
                             continue
-                    got = counting_bounds.bound(trial, above=robot_bound)
+                    got = counting_bounds.bound(relaxing + trial, above=robot_bound)
                     if got is not None and got > robot_bound:
                         verdict, smaller = False, trial
                     work = orc.solving.side_work - side  # 0 for a cached bound

@@ -23,6 +23,7 @@ import time
 from collections.abc import Callable, Iterable, Sequence
 
 from mega_sat.analysis.invariants import EncodingFacts, encoding_facts
+from mega_sat.analysis.monotone import drop_relaxing, restricting_values
 from mega_sat.deadline import Deadline
 from mega_sat.ground.family import GroundFamily, GroundTask, GuardLit
 from mega_sat.model.lifted import PlanStep
@@ -83,6 +84,8 @@ class SatOracles:
         self._max_horizon: int | None = None
         # (K, core): no selection agreeing with core has a plan of human cost <= K
         self.cost_cores: list[tuple[int, frozenset[GuardLit]]] = []
+        # the restricting value of each monotone update: cores never need the other one
+        self.restricting = restricting_values(family) if options.monotone_cores else {}
         swaps = object_swaps(family) if symmetry_breaking else []  # shared by both encodings
         self.opt_enc = FamilyEncoding(
             family,
@@ -186,7 +189,8 @@ class SatOracles:
         )
         if ok is False and exact:
             got = set(solver.get_core() or [])
-            self.cost_cores.append((bound, frozenset(g for g in lits if enc.guard_lit(g) in got)))
+            core = drop_relaxing((g for g in lits if enc.guard_lit(g) in got), self.restricting)
+            self.cost_cores.append((bound, core))
         if not ok:
             return None
         task = self.task(sel)
