@@ -56,7 +56,7 @@ class Options:
         },
     )
     opt_reachability_probe_rate: int = field(
-        default=10,
+        default=40,
         metadata={
             "doc": "reachable states that check may expand per conflict SAT has spent (at "
             "most opt_reachability_nodes)"
