@@ -62,9 +62,10 @@ def _pairs(points):
     st.booleans(),
     st.booleans(),
     st.sampled_from([0, 3000]),
+    st.booleans(),
 )
 def test_sat_frontier_equals_brute_force(
-    task, hs, joint, planner, joint_first, pair_proofs, below_nodes
+    task, hs, joint, planner, joint_first, pair_proofs, below_nodes, monotone
 ):
     got = _solvable(task)
     if got is None:
@@ -86,6 +87,7 @@ def test_sat_frontier_equals_brute_force(
             joint_before_opt=joint_first,
             joint_pair_proofs=pair_proofs,
             plan_below_robot_nodes=below_nodes,  # the search below the robot optimum
+            monotone_cores=monotone,  # cores and supports without monotone literals
         ),
     )
     assert fr.robot_optimal_cost == c_r
