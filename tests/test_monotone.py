@@ -12,6 +12,7 @@ from helpers.sat_families import (
     families,
     joint_brute,
     plan_cost,
+    random_run,
     selections,
 )
 from hypothesis import given, settings
@@ -19,20 +20,6 @@ from hypothesis import strategies as st
 
 from mega_sat.analysis.monotone import drop_relaxing, drop_restricting, restricting_values
 from mega_sat.ground.family import GroundAction, GroundFamily
-
-
-def _random_run(fam: GroundFamily, sel: frozenset[int], data) -> tuple:
-    task = fam.specialize(sel)
-    state = frozenset(task.init)
-    plan = []
-    for _ in range(data.draw(st.integers(0, 6))):
-        ok = [a for a in task.actions if a.pre <= state and not (a.negpre & state)]
-        if not ok:
-            break
-        a = data.draw(st.sampled_from(ok))
-        plan.append(a.step)
-        state = (state - a.delete) | a.add
-    return tuple(plan)
 
 
 @settings(max_examples=3000, deadline=None)
@@ -49,7 +36,7 @@ def test_the_restricting_value_gives_a_sub_model(fam: GroundFamily, data):
     loose_task, tight_task = fam.specialize(loose), fam.specialize(tight)
     # every run of the tight model runs in the loose one, at no higher cost, and reaches
     # at least the goals the tight one asks for
-    plan = _random_run(fam, tight, data)
+    plan, _ = random_run(fam, tight, data, max_steps=6)
     tight_cost = plan_cost(tight_task, plan)
     if tight_cost is not None:
         loose_cost = plan_cost(loose_task, plan)

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from helpers.sat_families import agreeing, families, guards, plan_cost, selections
+from helpers.sat_families import agreeing, families, guards, plan_cost, random_run, selections
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -16,26 +16,11 @@ from mega_sat.engines.support import causal_support, tight_support
 from mega_sat.ground.family import GroundFamily, holds
 
 
-def _random_run(fam: GroundFamily, sel: frozenset[int], data) -> tuple:
-    """A random plan that runs in ``human + sel`` (stops where no action applies)."""
-    task = fam.specialize(sel)
-    state = frozenset(task.init)
-    plan = []
-    for _ in range(data.draw(st.integers(0, 8))):
-        ok = [a for a in task.actions if a.pre <= state and not (a.negpre & state)]
-        if not ok:
-            break
-        a = data.draw(st.sampled_from(ok))
-        plan.append(a.step if hasattr(a, "step") else (a.name, *a.args))
-        state = (state - a.delete) | a.add
-    return tuple(plan), state
-
-
 @settings(max_examples=400, deadline=None)
 @given(fam=families(max_atoms=3, max_actions=6, max_updates=4), data=st.data())
 def test_supports_keep_the_plan_running_at_the_same_cost(fam: GroundFamily, data):
     sel = data.draw(selections(fam.n_updates))
-    plan, end = _random_run(fam, sel, data)
+    plan, end = random_run(fam, sel, data)
     if not all(p in end for p, g in fam.goal if holds(g, sel)):
         # the supports are defined for plans: ask for atoms the run reaches instead
         reached = sorted(end)

@@ -145,6 +145,22 @@ def joint_brute(
     return None
 
 
+def random_run(fam: GroundFamily, sel: frozenset[int], data, max_steps: int = 8) -> tuple:
+    """A random plan that runs in ``human + sel`` (stops where no action applies), drawn from
+    hypothesis ``data``, and the state it ends in."""
+    task = fam.specialize(sel)
+    state = frozenset(task.init)
+    plan = []
+    for _ in range(data.draw(st.integers(0, max_steps))):
+        ok = [a for a in task.actions if a.pre <= state and not (a.negpre & state)]
+        if not ok:
+            break
+        a = data.draw(st.sampled_from(ok))
+        plan.append(a.step)
+        state = (state - a.delete) | a.add
+    return tuple(plan), state
+
+
 def agreeing(core, n_updates: int) -> list[frozenset[int]]:
     """Every selection that agrees with the guard literals ``core``."""
     fixed = dict(core)
