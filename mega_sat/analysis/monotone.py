@@ -76,6 +76,17 @@ def _see_costs(cases, direction: dict[int, set[bool]]) -> None:
                     direction.setdefault(i, set()).add(not v)
 
 
+def split_relaxing(
+    lits: Iterable[GuardLit], restricting: dict[int, bool]
+) -> tuple[list[GuardLit], list[GuardLit]]:
+    """``lits`` in their order, split into those a core of "no plan within bounds" may need
+    and those at a relaxing value, which it never needs (see :func:`drop_relaxing`)."""
+    need, relaxing = [], []
+    for i, v in lits:
+        (need if restricting.get(i, v) == v else relaxing).append((i, v))
+    return need, relaxing
+
+
 def drop_relaxing(core: Iterable[GuardLit], restricting: dict[int, bool]) -> frozenset[GuardLit]:
     """The literals of a core of "no plan within bounds" that a proof needs: those at a
     relaxing value may flip to the restricting one, which only removes plans."""

@@ -13,7 +13,7 @@ import time
 from collections.abc import Iterable
 from typing import TYPE_CHECKING
 
-from mega_sat.analysis.monotone import drop_relaxing
+from mega_sat.analysis.monotone import split_relaxing
 from mega_sat.ground.family import GuardLit
 from mega_sat.sat.encoding import HUMAN
 from mega_sat.sat.stats import bump
@@ -53,10 +53,10 @@ class CoreShrinker:
         in_core = set(raw_core)
         # a literal at its update's relaxing value is never needed in the core: it stays
         # assumed in every trial (a more constrained, cheaper call) and is left out at the end
-        keep = orc.restricting
-        relaxing = [lit for lit in sel_lits if keep.get(abs(lit) - 1, lit > 0) != (lit > 0)]
-        base = base + relaxing
-        core = [lit for lit in sel_lits if lit in in_core and lit not in relaxing]
+        enc = orc.joint_enc
+        need, relaxing = split_relaxing(((abs(x) - 1, x > 0) for x in sel_lits), orc.restricting)
+        base = base + enc.lits_assumptions(relaxing)
+        core = [lit for lit in enc.lits_assumptions(need) if lit in in_core]
         calls = 0
         i = 0
         # a one-literal core is kept as is: the empty core (no selection at all) is rare and
@@ -129,11 +129,10 @@ class CoreShrinker:
         counting_bounds = orc.counting
         # literals at a relaxing value are never needed in the core; they stay assumed in the
         # trials (cheaper calls, tighter bounds) and are left out of the result
-        need = drop_relaxing(lits, orc.restricting)
-        relaxing = [g for g in lits if g not in need]
+        core, relaxing = split_relaxing(lits, orc.restricting)
         if exact:
             base = base + enc.lits_assumptions(relaxing)
-        core, calls, i = [g for g in lits if g in need], 0, 0
+        calls, i = 0, 0
         counting: bool | None = None if counting_bounds.enabled else False
         # a one-literal core is kept as is (as in minimize)
         while len(core) > 1 and i < len(core) and calls < opts.core_calls:
