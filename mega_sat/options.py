@@ -202,6 +202,15 @@ class Options:
         default=5000,
         metadata={"doc": "nodes of the blind search tried first in the sat engine's OPT"},
     )
+    unsolvable_probe_states: int = field(
+        default=50_000,
+        metadata={
+            "doc": "states of the breadth-first reachability that tries to prove a candidate "
+            "model unsolvable before any plan search, once some candidate had no plan; halves "
+            "after each model it does not prove unsolvable, doubles after each it does (0: off)",
+            "zero": True,
+        },
+    )
     race_nodes_per_conflict: int = field(
         default=5,
         metadata={

@@ -8,6 +8,14 @@ few updates.  Most answers can be proven without a planner call:
    (:mod:`mega_sat.analysis.pair_reachability`): *unsolvable*;
 2. **cached**: some optimal plan of an earlier candidate runs in ``human + E`` at a cost equal
    to LM-cut of the initial state; LM-cut is admissible, so no plan is cheaper: *optimal*;
+   **reachable states**: once some candidate had no plan, and no earlier plan runs in
+   ``human + E``, breadth-first reachability on the model's relevant atoms
+   (:class:`mega_sat.search.vector_search.Reachability`) within
+   ``Options.unsolvable_probe_states`` states: all of them expanded without a goal state is
+   *unsolvable*.  The budget halves after each model it does not prove unsolvable and doubles
+   after each it does, so where candidates have plans it soon costs little.  Such models
+   otherwise reach the planner, whose search and SAT side both need far more work for the
+   same proof (the SAT side before the portfolio's referee lets the search's proof count);
 3. **quick search**: uniform-cost search that finishes within ``Options.quick_nodes``
    expansions (exact: an exhausted space proves unsolvability, the first goal popped is
    optimal); the budget halves after each miss (down to 1/64) and doubles after each hit,
@@ -79,10 +87,13 @@ class TieredOpt:
         # the built-in planner starts with the same uniform-cost search: no quick tier then
         self.quick_nodes = 0 if planner.kind == "builtin" else quick_nodes
         self.quick_budget = NodeBudget(self.quick_nodes)
+        self.probe_budget = NodeBudget((options or planner.options).unsolvable_probe_states)
+        self._unsolvable_seen = False  # the reachable-states tier waits for a model without plan
         self._plans: list[tuple[PlanStep, ...]] = []
         self._seen: set[tuple[PlanStep, ...]] = set()
         self.stats = {
-            f"opt_by_{k}": 0 for k in ("relaxed", "pairs", "cached", "quick_search", "planner")
+            f"opt_by_{k}": 0
+            for k in ("relaxed", "pairs", "cached", "reachable_states", "quick_search", "planner")
         }
         self.time_s = 0.0
 
@@ -97,6 +108,7 @@ class TieredOpt:
             self.time_s += time.perf_counter() - t0
         if r.status == Status.OPTIMAL and r.plan is not None:
             self.remember(r.plan)
+        self._unsolvable_seen |= r.status == Status.UNSOLVABLE
         return r
 
     def remember(self, plan: tuple[PlanStep, ...]) -> None:
@@ -116,6 +128,8 @@ class TieredOpt:
             r = self._cheap(frozenset(selection), t0)
         finally:
             self.time_s += time.perf_counter() - t0
+        if isinstance(r, PlanResult):
+            self._unsolvable_seen |= r.status == Status.UNSOLVABLE
         return r
 
     def _cheap(self, sel: frozenset[int], t0: float) -> PlanResult | Bounds:
@@ -136,6 +150,14 @@ class TieredOpt:
                 best = (c, plan)
         if best is not None and best[0] <= bound:
             return done(Status.OPTIMAL, best[1], best[0], "cached")
+        if best is None and self._unsolvable_seen and self.probe_budget.nodes > 0:
+            # numpy's import is paid only by tasks with a model that has no plan
+            from mega_sat.search.vector_search import Reachability
+
+            verdict = Reachability(task).run(self.probe_budget.now)
+            self.probe_budget.record(verdict == Status.UNSOLVABLE)
+            if verdict == Status.UNSOLVABLE:
+                return done(Status.UNSOLVABLE, None, None, "reachable_states")
         lower = int(bound)
         return Bounds(lower, None, None) if best is None else Bounds(lower, best[1], best[0])
 
