@@ -1,5 +1,6 @@
-"""Abstractions, h^2 pair reachability, explicit JOINT with cores and the tiered OPT, each
-against explicit-state ground truth on random families (tests/sat_families.py)."""
+"""Abstractions, h^2 pair reachability and explicit JOINT with cores, each against
+explicit-state ground truth on random families (tests/sat_families.py); the tiered OPT is
+checked in tests/test_tiered_opt.py."""
 
 from __future__ import annotations
 
@@ -10,8 +11,6 @@ from hypothesis import strategies as st
 from mega_sat.analysis.abstraction import abstract_task
 from mega_sat.analysis.pair_reachability import goal_pair_unreachable, pair_masks
 from mega_sat.ground.family import GroundFamily
-from mega_sat.planners.node_planner import NodePlanner
-from mega_sat.planners.tiered_opt import TieredOpt
 from mega_sat.search.astar import astar
 from mega_sat.search.joint import JointSearcher, search_joint
 
@@ -106,18 +105,3 @@ def test_search_joint_matches_paired_search_and_cores_are_sound(fam: GroundFamil
             assert r.status == "plan" and r.robot_cost == best
             assert plan_cost(robot, r.plan) == r.robot_cost
             assert plan_cost(fam.specialize(sel), r.plan) == r.human_cost <= hb
-
-
-@SETTINGS
-@given(fam=families(), data=st.data())
-def test_tiered_opt_gives_the_optimal_cost(fam: GroundFamily, data):
-    tiers = TieredOpt(fam, NodePlanner(None, fam, "builtin"))
-    for _ in range(3):
-        sel = data.draw(selections(fam.n_updates))
-        r = tiers.optimal(sel)
-        task = fam.specialize(sel)
-        c = dijkstra(task)
-        if c is None:
-            assert r.status == "unsolvable"
-        else:
-            assert r.status == "optimal" and r.cost == c and plan_cost(task, r.plan) == c

@@ -14,8 +14,8 @@ few updates.  Most answers can be proven without a planner call:
    ``Options.unsolvable_probe_states`` states: all of them expanded without a goal state is
    *unsolvable*.  The budget halves after each model it does not prove unsolvable and doubles
    after each it does, so where candidates have plans it soon costs little.  Such models
-   otherwise reach the planner, whose search and SAT side both need far more work for the
-   same proof (the SAT side before the portfolio's referee lets the search's proof count);
+   otherwise reach the planner, where the same proof takes far more work: the portfolio's
+   referee lets the search's proof count only once SAT has spent the matching work;
 3. **quick search**: uniform-cost search that finishes within ``Options.quick_nodes``
    expansions (exact: an exhausted space proves unsolvability, the first goal popped is
    optimal); the budget halves after each miss (down to 1/64) and doubles after each hit,
