@@ -169,7 +169,7 @@ class Options:
         metadata={"doc": "least node limit of the explicit JOINT search that confirms a core"},
     )
     unsolvable_core_states: int = field(
-        default=100_000,
+        default=1_000_000,
         metadata={
             "doc": "states the may-reachability proof that shrinks an unsolvable model's "
             "exclusion may hold; past that only the relaxed and pair proofs shrink it"
@@ -178,8 +178,17 @@ class Options:
     unsolvable_core_work: int = field(
         default=300_000,
         metadata={
-            "doc": "states that proof may visit for one unsolvable model, over all the "
-            "updates it tries (a count, so the exclusion is the same on any machine)"
+            "doc": "states that proof may add to the model's own reachable states for one "
+            "unsolvable model, over all the updates it tries (a count, so the exclusion is "
+            "the same on any machine)"
+        },
+    )
+    unsolvable_core_trial_states: int = field(
+        default=50_000,
+        metadata={
+            "doc": "states one update's trial in that proof may add, or three times as many "
+            "as it holds already, whichever is more (an update whose freedom multiplies them "
+            "stays in the exclusion)"
         },
     )
     portfolio_conflicts: int = field(

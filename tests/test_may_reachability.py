@@ -3,6 +3,7 @@ ground truth on random families (tests/helpers/sat_families.py)."""
 
 from __future__ import annotations
 
+import pytest
 from helpers.sat_families import _succ, agreeing, dijkstra, families, selections
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
@@ -11,6 +12,7 @@ from mega_sat.analysis.abstraction import abstract_task
 from mega_sat.analysis.pair_reachability import goal_pair_unreachable
 from mega_sat.engines.support import unsolvable_core
 from mega_sat.ground.family import GroundFamily
+from mega_sat.search import may_reachability as MR
 from mega_sat.search.may_reachability import MayReachability
 from mega_sat.status import Status
 
@@ -83,7 +85,12 @@ def test_unsolvable_cores_exclude_only_unsolvable_models(fam: GroundFamily, data
     sel = data.draw(selections(fam.n_updates))
     if dijkstra(fam.specialize(sel)) is not None:
         return
-    core = unsolvable_core(fam, sel, work_limit=data.draw(st.sampled_from([None, 3, 30])))
+    core = unsolvable_core(
+        fam,
+        sel,
+        work_limit=data.draw(st.sampled_from([None, 0, 3, 30])),
+        trial_limit=data.draw(st.sampled_from([None, 0, 5])),
+    )
     on = range(fam.n_updates) if core is None else core
     for other in agreeing([(i, i in sel) for i in on], fam.n_updates):
         assert dijkstra(fam.specialize(other)) is None
@@ -112,6 +119,72 @@ def test_a_state_limit_changes_the_verdict_only_to_limit(fam: GroundFamily, data
     else:
         assert got in (Status.PLAN, Status.LIMIT)
         assert limited.reached() == _seen_by(limited, _reachable(fam, sel))
+
+
+@SETTINGS
+@given(fam=families(max_atoms=5, max_actions=7), data=st.data())
+def test_work_and_trial_limits_change_the_verdict_only_to_limit(fam: GroundFamily, data):
+    """The work counts the states trials add to R (not R's own); one trial may add at most
+    ``max(growth * |R|, trial_limit)``.  A trial that needs more fails and changes nothing; one
+    that adds no state succeeds even with no work left."""
+    sel = data.draw(selections(fam.n_updates))
+    free = data.draw(_subsets(fam.n_updates))
+    unlimited = MayReachability(fam, sel, node_limit=10_000)
+    if not unlimited.ok:
+        return
+    own, n_own = unlimited.reached(), len(unlimited.states)
+    verdict = unlimited.try_free(free)
+    added = len(unlimited.states) - n_own
+    # limits around the states the trial needs, where an off-by-one would show
+    around = st.sampled_from(sorted({0, max(added - 1, 0), added, added + 1}))
+    work, trial = data.draw(around), data.draw(around)
+    growth = data.draw(st.sampled_from([0, 1, MR.MAX_TRIAL_GROWTH]))
+    saved, MR.MAX_TRIAL_GROWTH = MR.MAX_TRIAL_GROWTH, growth
+    try:
+        limited = MayReachability(fam, sel, node_limit=10_000, work_limit=work, trial_limit=trial)
+        assert limited.ok and limited.reached() == own
+        got = limited.try_free(free)
+    finally:
+        MR.MAX_TRIAL_GROWTH = saved
+    if verdict == Status.UNSOLVABLE:
+        fits = added <= work and added <= max(growth * n_own, trial)
+        assert got == (Status.UNSOLVABLE if fits else Status.LIMIT)
+        assert limited.reached() == (unlimited.reached() if fits else own)
+    else:
+        assert got in (Status.PLAN, Status.LIMIT)
+        assert limited.reached() == own
+
+
+def _four_switches() -> GroundFamily:
+    """Four switches that only update 0 lets the agent turn on (R grows from 1 state to 16
+    when it is free) and a ``finish`` action, guarded by update 1, that needs all four for the
+    goal: with neither update the model has no plan, freeing update 1 adds no state."""
+    from mega_sat.ground.family import GroundAction
+
+    def act(name, pre, add, exists):
+        return GroundAction(name, (), exists, tuple((p, None) for p in pre), (),
+                            tuple((p, None) for p in add), (), (((), 1),))  # fmt: skip
+
+    switches = [act(f"on{k}", [], [k], (0, True)) for k in range(4)]
+    finish = act("finish", range(4), [4], (1, True))
+    atoms = tuple((f"on{k}",) for k in range(4)) + (("done",),)
+    return GroundFamily(atoms, 2, (*switches, finish), (), ((4, None),))
+
+
+@pytest.mark.parametrize("growth", [0, 1, 14, 15])
+@pytest.mark.parametrize("trial", [None, 0, 14, 15])
+@pytest.mark.parametrize("work", [None, 0, 14, 15])
+def test_limits_on_a_trial_that_adds_fifteen_states(work, trial, growth, monkeypatch):
+    monkeypatch.setattr(MR, "MAX_TRIAL_GROWTH", growth)
+    fam = _four_switches()
+    may = MayReachability(fam, frozenset(), node_limit=100, work_limit=work, trial_limit=trial)
+    assert may.ok and len(may.states) == 1
+    fits = (work is None or work >= 15) and (trial is None or max(growth, trial) >= 15)
+    assert may.try_free([0]) == (Status.UNSOLVABLE if fits else Status.LIMIT)
+    assert len(may.states) == (16 if fits else 1)
+    # freeing update 1 alone adds no state: it succeeds whatever work is left
+    other = MayReachability(fam, frozenset(), node_limit=100, work_limit=work, trial_limit=trial)
+    assert other.try_free([1]) == Status.UNSOLVABLE and len(other.states) == 1
 
 
 def _padded(fam: GroundFamily, pad: int = 70) -> GroundFamily:

@@ -382,6 +382,7 @@ def sat_frontier(
                             sel,
                             state_limit=options.unsolvable_core_states,
                             work_limit=options.unsolvable_core_work,
+                            trial_limit=options.unsolvable_core_trial_states,
                             deadline=deadline,
                             cut_short=short,
                         )

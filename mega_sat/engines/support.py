@@ -77,6 +77,7 @@ def unsolvable_core(
     *,
     state_limit: int = 100_000,
     work_limit: int | None = None,
+    trial_limit: int | None = None,
     deadline: Deadline | None = None,
     cut_short: list[int] | None = None,
 ) -> frozenset[int] | None:
@@ -93,7 +94,8 @@ def unsolvable_core(
     which needs no states.  (Where the may-reachable states reach the goal, the coarser pair
     abstraction does too, so it is not tried.)  The may-reachability proofs of one core
     visit at most ``work_limit`` states in all (a count, not seconds, so that the core is the
-    same on any machine); a proof cut short proves nothing and keeps the update.  Once
+    same on any machine), one trial adds at most ``max(|R|, trial_limit)``; a proof cut short
+    proves nothing and keeps the update.  Once
     ``deadline`` has passed no update is tried any more: the updates not yet dropped stay in
     ``S``, which is still sound, only larger.  ``cut_short`` (a list) receives the number of
     trials whose proof ran out of states or time.
@@ -113,7 +115,12 @@ def unsolvable_core(
         nonlocal may, short
         if may is None:
             may = MayReachability(
-                family, selection, node_limit=state_limit, work_limit=work_limit, deadline=deadline
+                family,
+                selection,
+                node_limit=state_limit,
+                work_limit=work_limit,
+                trial_limit=trial_limit,
+                deadline=deadline,
             )
             short += not may.ok
         if not may.ok:

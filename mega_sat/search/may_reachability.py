@@ -50,6 +50,11 @@ MAX_FREE_COMBINATIONS = 64
 update is not freed (the clause keeps it), which is sound, only less general."""
 
 
+MAX_TRIAL_GROWTH = 3
+"""A trial with a ``trial_limit`` may add this many times the states ``R`` holds (if more than
+the limit); past that its update stays in the clause, which is sound, only less general."""
+
+
 class _Blowup(Exception):
     """Too many variants: the trial proves nothing."""
 
@@ -62,7 +67,10 @@ class MayReachability:
     ``work_limit`` bounds the new states all trials together may visit (the successors of
     ``R`` under the actions a trial changes are computed for every state of ``R``, at most
     ``node_limit`` per trial, and not counted), so that the effort, and with it the answer,
-    does not depend on the machine's speed.
+    does not depend on the machine's speed.  ``trial_limit``: one trial may add at most
+    ``max(MAX_TRIAL_GROWTH * |R|, trial_limit)`` states: an update whose freedom multiplies
+    ``R`` makes every later trial scan all of it, and one whose may-states reach the goal only
+    deep down costs as much before it fails.
     """
 
     def __init__(
@@ -72,12 +80,14 @@ class MayReachability:
         *,
         node_limit: int,
         work_limit: int | None = None,
+        trial_limit: int | None = None,
         deadline: Deadline | None = None,
     ):
         self.family = family
         self.sel = frozenset(selection)
         self.node_limit = node_limit
         self.work_limit = work_limit
+        self.trial_limit = trial_limit
         self.work = 0
         self.deadline = deadline if deadline is not None else NO_DEADLINE
         self.free: frozenset[int] = frozenset()
@@ -110,7 +120,9 @@ class MayReachability:
             starts = self._initial_states(self.free)
         except _Blowup:
             return
-        verdict, new_closed, new_states = self._explore(starts, self.rows, self.free)
+        # R's own states are not work: they are the model's reachable states, which the proof
+        # that it has no plan has just exhausted
+        verdict, new_closed, new_states = self._explore(starts, self.rows, self.free, count=False)
         if verdict == Status.UNSOLVABLE:
             self._commit(self.free, self.rows, new_closed, new_states)
             self.ok = True
@@ -201,9 +213,13 @@ class MayReachability:
             return None
         return tuple(np.concatenate([p[k] for p in parts]) for k in range(4))
 
-    def _explore(self, starts: np.ndarray, rows, free: frozenset[int]):
+    def _explore(
+        self, starts: np.ndarray, rows, free: frozenset[int], most: int | None = None, count=True
+    ):
         """Exhaust what ``starts`` reach beyond ``R`` under ``free``: ``(verdict, closed,
-        states)`` of the new states, ``UNSOLVABLE`` when none satisfies the goal."""
+        states)`` of the new states, ``UNSOLVABLE`` when none satisfies the goal; ``LIMIT``
+        past ``most`` new states (or the node or work limit; ``count``: whether they are
+        work)."""
         goal = self._goal(free)
         table = self._stack(rows, rows.keys())
         closed = _Closed()
@@ -218,7 +234,11 @@ class MayReachability:
             if goal is not None and _at_goal(layer, goal).any():
                 return Status.PLAN, None, None
             n_new += len(layer)
-            if len(self.states) + n_new > self.node_limit or self._spend(len(layer)):
+            if (
+                len(self.states) + n_new > self.node_limit
+                or (most is not None and n_new > most)
+                or (count and self._spend(len(layer)))
+            ):
                 return Status.LIMIT, None, None
             closed.add(keys)
             found.append(layer)
@@ -267,8 +287,8 @@ class MayReachability:
     def try_free(self, updates: Iterable[int]) -> Status:
         """Free ``updates`` as well, if ``R`` stays goal-free: ``UNSOLVABLE`` (and ``R``
         grows) when it does; ``PLAN`` when some state would satisfy the goal, ``LIMIT`` when
-        ``R`` would outgrow ``node_limit``, the work ``work_limit`` or a variant count its
-        cap, ``TIMEOUT`` at the deadline; then nothing changes."""
+        ``R`` would outgrow ``node_limit``, the trial ``trial_limit``, the work ``work_limit``
+        or a variant count its cap, ``TIMEOUT`` at the deadline; then nothing changes."""
         assert self.ok
         free = self.free | frozenset(updates)
         changed = sorted({j for u in free - self.free for j in self.mentions.get(u, ())})
@@ -287,6 +307,15 @@ class MayReachability:
         fresh = {j: _new_rows(self.rows[j], rows[j]) for j in changed}
         table = self._stack(fresh, changed)
         room = self.node_limit - len(self.states)
+        most = None
+        if self.trial_limit is not None:
+            most = max(MAX_TRIAL_GROWTH * len(self.states), self.trial_limit)
+            room = min(room, most)
+        if self.work_limit is not None:
+            # starts that cannot all be explored within the work left are not explored (nor
+            # counted); once the work is spent, the first new state settles a trial, without
+            # the successors of the rest of R
+            room = min(room, max(self.work_limit - self.work, 0))
         seen, starts = _Closed(), []
         n_starts = 0
         for states in itertools.chain([initial], _successors_by_chunk(self.states, table)):
@@ -296,9 +325,9 @@ class MayReachability:
             seen.add(state_keys(new))
             starts.append(new)
             n_starts += len(new)
-            if n_starts > room:  # R would outgrow node_limit: no need to look further
+            if n_starts > room:  # past a limit already: no need to look further
                 return Status.LIMIT
-        verdict, closed, new_states = self._explore(np.concatenate(starts), rows, free)
+        verdict, closed, new_states = self._explore(np.concatenate(starts), rows, free, most)
         if verdict == Status.UNSOLVABLE:
             self._commit(free, rows, closed, new_states)
         return verdict
