@@ -94,8 +94,9 @@ def unsolvable_core(
     which needs no states.  (Where the may-reachable states reach the goal, the coarser pair
     abstraction does too, so it is not tried.)  The may-reachability proofs of one core
     visit at most ``work_limit`` states in all (a count, not seconds, so that the core is the
-    same on any machine), one trial adds at most ``max(|R|, trial_limit)``; a proof cut short
-    proves nothing and keeps the update.  Once
+    same on any machine; the model's own reachable states do not count), and one trial adds at
+    most ``max(MAX_TRIAL_GROWTH * |R|, trial_limit)`` states; a proof cut short proves nothing
+    and keeps the update.  Once
     ``deadline`` has passed no update is tried any more: the updates not yet dropped stay in
     ``S``, which is still sound, only larger.  ``cut_short`` (a list) receives the number of
     trials whose proof ran out of states or time.

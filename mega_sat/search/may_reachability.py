@@ -214,7 +214,12 @@ class MayReachability:
         return tuple(np.concatenate([p[k] for p in parts]) for k in range(4))
 
     def _explore(
-        self, starts: np.ndarray, rows, free: frozenset[int], most: int | None = None, count=True
+        self,
+        starts: np.ndarray,
+        rows,
+        free: frozenset[int],
+        most: int | None = None,
+        count: bool = True,
     ):
         """Exhaust what ``starts`` reach beyond ``R`` under ``free``: ``(verdict, closed,
         states)`` of the new states, ``UNSOLVABLE`` when none satisfies the goal; ``LIMIT``
