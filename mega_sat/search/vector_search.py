@@ -149,7 +149,9 @@ def successors(
     clash = ((pre & neg) != 0).any(axis=1)  # a row needing an atom both true and false
     if clash.any():
         ok &= ~clash
-    rows, acts = np.nonzero(ok)
+    # the flat indices split by hand: the same (row-major) pairs as np.nonzero, several times
+    # faster than its two-dimensional form
+    rows, acts = np.divmod(np.flatnonzero(ok), ok.shape[1])
     return rows, acts, (states[rows] & keep[acts]) | add[acts]
 
 
