@@ -186,9 +186,16 @@ class Options:
     unsolvable_core_trial_states: int = field(
         default=50_000,
         metadata={
-            "doc": "states one update's trial in that proof may add, or three times as many "
-            "as it holds already, whichever is more (an update whose freedom multiplies them "
-            "stays in the exclusion)"
+            "doc": "states one update's trial in that proof may add, or "
+            "unsolvable_core_trial_growth times as many as it holds already, whichever is "
+            "more (an update whose freedom multiplies them stays in the exclusion)"
+        },
+    )
+    unsolvable_core_trial_growth: int = field(
+        default=3,
+        metadata={
+            "doc": "how many times the states it holds one trial of that proof may add "
+            "(see unsolvable_core_trial_states)"
         },
     )
     portfolio_conflicts: int = field(

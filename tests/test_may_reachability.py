@@ -12,7 +12,6 @@ from mega_sat.analysis.abstraction import abstract_task
 from mega_sat.analysis.pair_reachability import goal_pair_unreachable
 from mega_sat.engines.support import unsolvable_core
 from mega_sat.ground.family import GroundFamily
-from mega_sat.search import may_reachability as MR
 from mega_sat.search.may_reachability import MayReachability
 from mega_sat.status import Status
 
@@ -138,14 +137,12 @@ def test_work_and_trial_limits_change_the_verdict_only_to_limit(fam: GroundFamil
     # limits around the states the trial needs, where an off-by-one would show
     around = st.sampled_from(sorted({0, max(added - 1, 0), added, added + 1}))
     work, trial = data.draw(around), data.draw(around)
-    growth = data.draw(st.sampled_from([0, 1, MR.MAX_TRIAL_GROWTH]))
-    saved, MR.MAX_TRIAL_GROWTH = MR.MAX_TRIAL_GROWTH, growth
-    try:
-        limited = MayReachability(fam, sel, node_limit=10_000, work_limit=work, trial_limit=trial)
-        assert limited.ok and limited.reached() == own
-        got = limited.try_free(free)
-    finally:
-        MR.MAX_TRIAL_GROWTH = saved
+    growth = data.draw(st.sampled_from([0, 1, 3]))
+    limited = MayReachability(
+        fam, sel, node_limit=10_000, work_limit=work, trial_limit=trial, trial_growth=growth
+    )
+    assert limited.ok and limited.reached() == own
+    got = limited.try_free(free)
     if verdict == Status.UNSOLVABLE:
         fits = added <= work and added <= max(growth * n_own, trial)
         assert got == (Status.UNSOLVABLE if fits else Status.LIMIT)
@@ -174,16 +171,16 @@ def _four_switches() -> GroundFamily:
 @pytest.mark.parametrize("growth", [0, 1, 14, 15])
 @pytest.mark.parametrize("trial", [None, 0, 14, 15])
 @pytest.mark.parametrize("work", [None, 0, 14, 15])
-def test_limits_on_a_trial_that_adds_fifteen_states(work, trial, growth, monkeypatch):
-    monkeypatch.setattr(MR, "MAX_TRIAL_GROWTH", growth)
+def test_limits_on_a_trial_that_adds_fifteen_states(work, trial, growth):
     fam = _four_switches()
-    may = MayReachability(fam, frozenset(), node_limit=100, work_limit=work, trial_limit=trial)
+    limits = {"work_limit": work, "trial_limit": trial, "trial_growth": growth}
+    may = MayReachability(fam, frozenset(), node_limit=100, **limits)
     assert may.ok and len(may.states) == 1
     fits = (work is None or work >= 15) and (trial is None or max(growth, trial) >= 15)
     assert may.try_free([0]) == (Status.UNSOLVABLE if fits else Status.LIMIT)
     assert len(may.states) == (16 if fits else 1)
     # freeing update 1 alone adds no state: it succeeds whatever work is left
-    other = MayReachability(fam, frozenset(), node_limit=100, work_limit=work, trial_limit=trial)
+    other = MayReachability(fam, frozenset(), node_limit=100, **limits)
     assert other.try_free([1]) == Status.UNSOLVABLE and len(other.states) == 1
 
 

@@ -383,6 +383,7 @@ def sat_frontier(
                             state_limit=options.unsolvable_core_states,
                             work_limit=options.unsolvable_core_work,
                             trial_limit=options.unsolvable_core_trial_states,
+                            trial_growth=options.unsolvable_core_trial_growth,
                             deadline=deadline,
                             cut_short=short,
                         )

@@ -14,6 +14,7 @@ from collections.abc import Iterable, Sequence
 from mega_sat.deadline import NO_DEADLINE, Deadline
 from mega_sat.ground.family import GroundFamily, GuardLit
 from mega_sat.model.lifted import PlanStep
+from mega_sat.options import DEFAULT
 from mega_sat.status import Status
 
 
@@ -75,9 +76,10 @@ def unsolvable_core(
     family: GroundFamily,
     selection: frozenset[int],
     *,
-    state_limit: int = 100_000,
+    state_limit: int = DEFAULT.unsolvable_core_states,
     work_limit: int | None = None,
     trial_limit: int | None = None,
+    trial_growth: int = DEFAULT.unsolvable_core_trial_growth,
     deadline: Deadline | None = None,
     cut_short: list[int] | None = None,
 ) -> frozenset[int] | None:
@@ -95,7 +97,7 @@ def unsolvable_core(
     abstraction does too, so it is not tried.)  The may-reachability proofs of one core
     visit at most ``work_limit`` states in all (a count, not seconds, so that the core is the
     same on any machine; the model's own reachable states do not count), and one trial adds at
-    most ``max(MAX_TRIAL_GROWTH * |R|, trial_limit)`` states; a proof cut short proves nothing
+    most ``max(trial_growth * |R|, trial_limit)`` states; a proof cut short proves nothing
     and keeps the update.  Once
     ``deadline`` has passed no update is tried any more: the updates not yet dropped stay in
     ``S``, which is still sound, only larger.  ``cut_short`` (a list) receives the number of
@@ -121,6 +123,7 @@ def unsolvable_core(
                 node_limit=state_limit,
                 work_limit=work_limit,
                 trial_limit=trial_limit,
+                trial_growth=trial_growth,
                 deadline=deadline,
             )
             short += not may.ok

@@ -50,11 +50,6 @@ MAX_FREE_COMBINATIONS = 64
 update is not freed (the clause keeps it), which is sound, only less general."""
 
 
-MAX_TRIAL_GROWTH = 3
-"""A trial with a ``trial_limit`` may add this many times the states ``R`` holds (if more than
-the limit); past that its update stays in the clause, which is sound, only less general."""
-
-
 class _Blowup(Exception):
     """Too many variants: the trial proves nothing."""
 
@@ -68,7 +63,8 @@ class MayReachability:
     ``R`` under the actions a trial changes are computed for every state of ``R``, at most
     ``node_limit`` per trial, and not counted), so that the effort, and with it the answer,
     does not depend on the machine's speed.  ``trial_limit``: one trial may add at most
-    ``max(MAX_TRIAL_GROWTH * |R|, trial_limit)`` states: an update whose freedom multiplies
+    ``max(trial_growth * |R|, trial_limit)`` states (past that its update stays in the clause,
+    which is sound, only less general): an update whose freedom multiplies
     ``R`` makes every later trial scan all of it, and one whose may-states reach the goal only
     deep down costs as much before it fails.
     """
@@ -81,6 +77,7 @@ class MayReachability:
         node_limit: int,
         work_limit: int | None = None,
         trial_limit: int | None = None,
+        trial_growth: int = 0,
         deadline: Deadline | None = None,
     ):
         self.family = family
@@ -88,6 +85,7 @@ class MayReachability:
         self.node_limit = node_limit
         self.work_limit = work_limit
         self.trial_limit = trial_limit
+        self.trial_growth = trial_growth
         self.work = 0
         self.deadline = deadline if deadline is not None else NO_DEADLINE
         self.free: frozenset[int] = frozenset()
@@ -314,7 +312,7 @@ class MayReachability:
         room = self.node_limit - len(self.states)
         most = None
         if self.trial_limit is not None:
-            most = max(MAX_TRIAL_GROWTH * len(self.states), self.trial_limit)
+            most = max(self.trial_growth * len(self.states), self.trial_limit)
             room = min(room, most)
         if self.work_limit is not None:
             # starts that cannot all be explored within the work left are not explored (nor
