@@ -41,12 +41,28 @@ class Options:
         default=32,
         metadata={
             "doc": "once SAT OPT finds no plan of this many steps (and knows none), it "
-            "tries to prove the model unsolvable by exhausting its reachable states"
+            "tries to prove the model unsolvable, by exhausting its reachable states and by "
+            "an inductive invariant (IC3) in turns"
         },
     )
     opt_reachability_nodes: int = field(
         default=2_000_000,
         metadata={"doc": "states that reachability check of SAT OPT may expand"},
+    )
+    opt_side_proof_states: int = field(
+        default=50_000,
+        metadata={
+            "doc": "reachable states of the first turn once no plan fits "
+            "opt_reachability_steps steps; each turn doubles it (up to "
+            "opt_reachability_nodes) and IC3 gets its share"
+        },
+    )
+    opt_side_proof_ic3_per_1000: int = field(
+        default=25,
+        metadata={
+            "doc": "SAT calls of IC3 per 1000 reachable states in those turns (about the "
+            "same time on the shipped domains)"
+        },
     )
     opt_reachability_conflicts: int = field(
         default=10_000,

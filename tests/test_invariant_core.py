@@ -5,11 +5,12 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from helpers.sat_families import agreeing, dijkstra, families, selections
+import pytest
+from helpers.sat_families import agreeing, all_selections, dijkstra, families, selections
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from mega_sat.ground.family import GroundFamily
+from mega_sat.ground.family import GroundAction, GroundFamily
 from mega_sat.options import Options
 from mega_sat.sat.invariant_core import InvariantCores, invariant_core
 from mega_sat.sat.oracles import SatOracles
@@ -65,11 +66,104 @@ def test_ic3_alongside_sat_is_exact(fam: GroundFamily, data):
                 assert best is None and "IC3" in r.reason
 
 
-def test_ic3_alongside_sat_and_its_core_on_barman():
+@pytest.mark.parametrize("ic3_share", [25, 10**6])
+@settings(
+    max_examples=300, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck)
+)
+@given(fam=families(max_atoms=6, max_actions=8))
+def test_side_proofs_in_turns_are_exact(ic3_share: int, fam: GroundFamily):
+    """Once no plan fits one step, reachability and IC3 take turns from one state on (the
+    probe alongside SAT never starts, operator counting is off so that more models get this
+    far), with IC3's share as in the default and a thousand calls per state: on every
+    selection the answer matches Dijkstra, and an invariant is kept only for a model without a
+    plan."""
+    opts = Options(
+        opt_reachability_steps=1,
+        opt_side_proof_states=1,
+        opt_side_proof_ic3_per_1000=ic3_share,
+        opt_reachability_conflicts=10**9,
+        counting_trials=0,
+    )
+    with SatOracles(fam, options=opts) as orc:
+        for sel in all_selections(fam.n_updates):
+            r, best = orc.opt(sel), dijkstra(fam.specialize(sel))
+            if best is None:
+                assert r.status == Status.UNSOLVABLE and r.exact
+            else:
+                assert r.status == Status.OPTIMAL and (r.cost == best or not r.exact)
+            if orc.take_invariant(sel) is not None:
+                assert best is None and "IC3" in r.reason
+
+
+def switches_and_latches(n: int) -> GroundFamily:
+    """``n`` switches, free to turn on and off, and two latches: a latch is set while one
+    switch is on and the other latch unset, and is never unset.  So the goal (both latches) is
+    unreachable among ``3 * 2**n`` reachable states, every switch is relevant, the relaxation
+    reaches the goal in two steps, and one clause (not both latches) is an invariant."""
+    one = (((), 1),)
+    acts = []
+    for i in range(n):
+        acts.append(GroundAction(f"on{i}", (), None, (), ((i, None),), ((i, None),), (), one))
+        acts.append(GroundAction(f"off{i}", (), None, ((i, None),), (), (), ((i, None),), one))
+        for latch, other in ((n, n + 1), (n + 1, n)):
+            pre, negpre, add = ((i, None),), ((other, None),), ((latch, None),)
+            acts.append(GroundAction(f"set{latch}-{i}", (), None, pre, negpre, add, (), one))
+    atoms = tuple((f"p{i}",) for i in range(n + 2))
+    return GroundFamily(atoms, 0, tuple(acts), (), ((n, None), (n + 1, None)))
+
+
+@pytest.mark.parametrize("ic3", [True, False])
+def test_side_proofs_take_turns(ic3: bool):
+    """Switches and latches with 16 switches (196,608 states): in turns from 1,000 states,
+    IC3's one clause proves "no plan" before the reachability check gets far; with IC3 off
+    the check exhausts the states instead."""
+    opts = Options(
+        opt_reachability_steps=1, opt_side_proof_states=1000, opt_invariant_probe_rate=int(ic3)
+    )
+    with SatOracles(switches_and_latches(16), options=opts) as orc:
+        r = orc.opt(frozenset())
+        assert r.status == Status.UNSOLVABLE and r.exact
+        how = "an inductive invariant (IC3)" if ic3 else "no reachable state satisfies"
+        assert r.reason.startswith("no plan within 2 steps, and " + how)
+        assert orc.stats.opt_by_invariant == (1 if ic3 else None)
+        assert orc.stats.opt_by_reachability == (None if ic3 else 1)
+
+
+def binary_counter(n: int) -> GroundFamily:
+    """``n`` bits counting up from zero to all set: the only plan has ``2**n - 1`` steps, far
+    more than the relaxation's lower bound."""
+    one = (((), 1),)
+    acts = []
+    for i in range(n):
+        low = tuple((j, None) for j in range(i))
+        acts.append(GroundAction(f"inc{i}", (), None, low, ((i, None),), ((i, None),), low, one))
+    goal = tuple((i, None) for i in range(n))
+    return GroundFamily(tuple((f"b{i}",) for i in range(n)), 0, tuple(acts), (), goal)
+
+
+@pytest.mark.parametrize("ic3_share", [0, 25, 10**6])
+def test_side_proofs_leave_a_long_plan_to_sat(ic3_share: int):
+    """A 5-bit counter: no plan fits the first horizons, and in the turns IC3 (with a
+    thousand calls per state, first) or the reachability check finds that the goal is
+    reachable, so SAT goes on to the 31-step plan."""
+    opts = Options(
+        opt_reachability_steps=1,
+        opt_side_proof_states=1,
+        opt_side_proof_ic3_per_1000=max(ic3_share, 1),
+        opt_invariant_probe_rate=int(ic3_share > 0),
+    )
+    with SatOracles(binary_counter(5), options=opts) as orc:
+        r = orc.opt(frozenset())
+        assert r.status == Status.OPTIMAL and r.exact and r.cost == 31
+        assert orc.take_invariant(frozenset()) is None
+
+
+def test_ic3_in_turns_with_reachability_and_its_core_on_barman():
     """barman-bar Delta30 p3 with ten updates: no plan, no horizon up to the cap shows it and
-    the reachable states are too many to exhaust; IC3 alongside SAT does, and its invariant
-    holds with all but a few of the 30 updates free (which few depends on the invariant found),
-    where the may-reachability core frees none."""
+    the 6.4 million reachable states are too many to exhaust; once no plan fits 32 steps, IC3
+    in turns with the reachability check does (before the check reaches its 2 million states),
+    and its invariant holds with all but a few of the 30 updates free (which few depends on the
+    invariant found), where the may-reachability core frees none."""
     from mega_sat.engines.support import unsolvable_core
     from mega_sat.ground.grounding import ground
     from mega_sat.pddl.loading import load_task_dir
@@ -79,7 +173,11 @@ def test_ic3_alongside_sat_and_its_core_on_barman():
     with SatOracles(fam) as orc:
         r = orc.opt(sel)
         assert r.status == Status.UNSOLVABLE and r.exact
-        assert "IC3" in r.reason and "while SAT looked for a plan" in r.reason
+        assert (
+            r.reason
+            == "no plan within 40 steps, and an inductive invariant (IC3) excludes the goal"
+        )
+        assert orc.stats.opt_by_invariant == 1 and orc.stats.opt_by_reachability is None
         cubes = orc.take_invariant(sel)
         assert orc.take_invariant(sel) is None  # handed over once
     assert cubes

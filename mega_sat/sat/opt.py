@@ -263,6 +263,36 @@ class OptOracle:
             ic3.solvable = verdict == Status.PLAN  # SAT will find the plan
             solving.check()  # the portfolio's referee may end the call here
 
+        def side_proofs() -> str | None:
+            """Once no plan fits ``opt_reachability_steps`` steps: exhaust the reachable
+            states and build an invariant (IC3) in turns, each turn doubling both limits
+            (from ``opt_side_proof_states`` states up to ``opt_reachability_nodes``; IC3 gets
+            ``opt_side_proof_ic3_per_1000`` SAT calls per 1000 states, about the same time;
+            none if ``opt_invariant_probe_rate`` is 0).  Which proof is cheaper differs
+            from model to model (a small state space, or a large one with a short
+            invariant); in turns each costs at most about twice what it needs plus as much
+            of the other.  The reason of the proof, or ``None`` (SAT goes on, and the probe
+            with it)."""
+            limit = min(opts.opt_side_proof_states, opts.opt_reachability_nodes)
+            while True:
+                got = reachable(limit)
+                if got == Status.UNSOLVABLE:
+                    return "no reachable state satisfies the goal"
+                if got == Status.PLAN:
+                    return None  # some state satisfies the goal: SAT will find the plan
+                queries = min(limit * opts.opt_side_proof_ic3_per_1000 // 1000, opts.pdr_queries)
+                if not ic3.solvable and opts.opt_invariant_probe_rate > 0 and queries > 0:
+                    got = self._invariant(ic3.get(), queries)
+                    if got == Status.UNSOLVABLE:
+                        self.invariants[sel] = ic3.pdr.invariant()
+                        return "an inductive invariant (IC3) excludes the goal"
+                    ic3.solvable = got == Status.PLAN
+                    solving.check()
+                if ic3.solvable or limit >= opts.opt_reachability_nodes:
+                    return None
+                limit = min(2 * limit, opts.opt_reachability_nodes)
+
+        sided = False  # the side proofs have had their turn
         with _LazyPdr(task) as ic3:
             solving.between_chunks = probe
             try:
@@ -273,14 +303,14 @@ class OptOracle:
                         break
                     if h >= cap:
                         break
-                    if (
-                        h >= opts.opt_reachability_steps
-                        and reachable(opts.opt_reachability_nodes) == Status.UNSOLVABLE
-                    ):
-                        return done(
-                            Status.UNSOLVABLE, None, None, True,
-                            f"no plan within {h} steps, and no reachable state satisfies the goal",
-                        )  # fmt: skip
+                    if h >= opts.opt_reachability_steps and not sided:
+                        sided = True
+                        why = side_proofs()
+                        if why is not None:
+                            return done(
+                                Status.UNSOLVABLE, None, None, True,
+                                f"no plan within {h} steps, and {why}",
+                            )  # fmt: skip
                     h = min(2 * h, cap)
             except _Unreachable as e:
                 return done(
