@@ -94,6 +94,14 @@ class Options:
             "plan fits the horizon cap and the explicit search gave up"
         },
     )
+    ic3_seed_lemmas: int = field(
+        default=20_000,
+        metadata={
+            "zero": True,
+            "doc": "clauses of the latest IC3 invariants kept to seed IC3 on later models "
+            "(each checked before use; 0: IC3 starts from nothing)",
+        },
+    )
     solve_chunk: int = field(
         default=5000,
         metadata={"doc": "conflicts per SAT solve chunk (the deadline is checked between chunks)"},

@@ -129,6 +129,36 @@ def test_side_proofs_take_turns(ic3: bool):
         assert orc.stats.opt_by_reachability == (None if ic3 else 1)
 
 
+class _Proven:
+    """Stands in for IC3 after ``UNSOLVABLE``: only its invariant's cubes are read."""
+
+    def __init__(self, *cubes):
+        self.cubes = tuple(frozenset({c}) for c in cubes)
+
+    def invariant(self):
+        return self.cubes
+
+
+def test_the_lemma_pool_keeps_the_latest_invariants():
+    """The invariant that proved a model unsolvable goes to the loop and into the pool of
+    IC3 seeds, most recent last, at most ``ic3_seed_lemmas`` cubes; 0 keeps none.  A proof in
+    turns (switches and latches) fills the pool."""
+    a, b, c, d = (0, True), (1, True), (2, False), (3, True)
+    with SatOracles(switches_and_latches(2), options=Options(ic3_seed_lemmas=3)) as orc:
+        opt = orc.opt_oracle
+        opt._keep_invariant(frozenset({0}), _Proven(a, b))
+        opt._keep_invariant(frozenset({1}), _Proven(c, a, d))
+        assert list(opt._lemmas) == [frozenset({x}) for x in (c, a, d)]
+        assert orc.take_invariant({0}) == _Proven(a, b).cubes
+    with SatOracles(switches_and_latches(2), options=Options(ic3_seed_lemmas=0)) as orc:
+        orc.opt_oracle._keep_invariant(frozenset(), _Proven(a))
+        assert not orc.opt_oracle._lemmas
+    opts = Options(opt_reachability_steps=1, opt_side_proof_states=1000)
+    with SatOracles(switches_and_latches(16), options=opts) as orc:
+        assert orc.opt(frozenset()).status == Status.UNSOLVABLE
+        assert orc.opt_oracle._lemmas and orc.stats.opt_by_invariant == 1
+
+
 def binary_counter(n: int) -> GroundFamily:
     """``n`` bits counting up from zero to all set: the only plan has ``2**n - 1`` steps, far
     more than the relaxation's lower bound."""

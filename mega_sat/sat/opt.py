@@ -16,6 +16,7 @@ simulating the decoded plan, never from the solver's counters.
 from __future__ import annotations
 
 import time
+from collections.abc import Iterable
 from typing import TYPE_CHECKING
 
 from mega_sat.analysis.extra_cost import extra_cost_bound, relaxed_bounds
@@ -41,8 +42,9 @@ class _LazyPdr:
     """IC3 on one model, built at its first use and kept for the next (its frames are the
     work done so far); ``solvable`` once it found the goal reachable."""
 
-    def __init__(self, task: GroundTask):
+    def __init__(self, task: GroundTask, lemmas: Iterable[frozenset[tuple[int, bool]]] = ()):
         self.task = task
+        self.lemmas = lemmas
         self.pdr = None
         self.solvable = False
 
@@ -51,6 +53,7 @@ class _LazyPdr:
             from mega_sat.search.pdr import Pdr
 
             self.pdr = Pdr(self.task)
+            self.pdr.seed(self.lemmas)
         return self.pdr
 
     def __enter__(self) -> _LazyPdr:
@@ -89,6 +92,8 @@ class OptOracle:
         self._extra_searched: set[frozenset[int]] = set()
         # per selection proven unsolvable by IC3: the invariant's cubes (for its core)
         self.invariants: dict[frozenset[int], tuple[frozenset[tuple[int, bool]], ...]] = {}
+        # the cubes of the latest invariants, most recent last: IC3's seeds for the next model
+        self._lemmas: dict[frozenset[tuple[int, bool]], None] = {}
         self.searches_hit = 0
         self.searches_missed = 0
         self.search_steps_saved = 0
@@ -258,7 +263,7 @@ class OptOracle:
                 return
             verdict = self._invariant(ic3.get(), queries)
             if verdict == Status.UNSOLVABLE:
-                self.invariants[sel] = ic3.pdr.invariant()
+                self._keep_invariant(sel, ic3.pdr)
                 raise _Unreachable("an inductive invariant (IC3) excludes the goal")
             ic3.solvable = verdict == Status.PLAN  # SAT will find the plan
             solving.check()  # the portfolio's referee may end the call here
@@ -284,7 +289,7 @@ class OptOracle:
                 if not ic3.solvable and opts.opt_invariant_probe_rate > 0 and queries > 0:
                     got = self._invariant(ic3.get(), queries)
                     if got == Status.UNSOLVABLE:
-                        self.invariants[sel] = ic3.pdr.invariant()
+                        self._keep_invariant(sel, ic3.pdr)
                         return "an inductive invariant (IC3) excludes the goal"
                     ic3.solvable = got == Status.PLAN
                     solving.check()
@@ -293,7 +298,7 @@ class OptOracle:
                 limit = min(2 * limit, opts.opt_reachability_nodes)
 
         sided = False  # the side proofs have had their turn
-        with _LazyPdr(task) as ic3:
+        with _LazyPdr(task, self._lemmas) as ic3:
             solving.between_chunks = probe
             try:
                 while plan is None:
@@ -486,7 +491,7 @@ class OptOracle:
             Status.PLAN if ic3.solvable else self._invariant(ic3.get(), self.options.pdr_queries)
         )
         if verdict == Status.UNSOLVABLE:
-            self.invariants[sel] = ic3.pdr.invariant()
+            self._keep_invariant(sel, ic3.pdr)
             return OptResult(
                 Status.UNSOLVABLE, None, None, True,
                 reason + "; an inductive invariant (IC3) excludes the goal", calls,
@@ -496,6 +501,21 @@ class OptOracle:
             Status.LIMIT, None, None, False, reason + f"; IC3 gave {verdict.value}",
             calls, orc.finish("opt", t0),
         )  # fmt: skip
+
+    def _keep_invariant(self, sel: frozenset[int], pdr) -> None:
+        """Hand the invariant that proved ``sel`` unsolvable to the loop (for its core), and
+        keep its cubes as lemmas to seed IC3 on later models, at most ``ic3_seed_lemmas`` of
+        the most recent (:meth:`mega_sat.search.pdr.Pdr.seed`)."""
+        cubes = pdr.invariant()
+        self.invariants[sel] = cubes
+        limit = self.options.ic3_seed_lemmas
+        if limit <= 0:
+            return
+        for cube in cubes:
+            self._lemmas.pop(cube, None)
+            self._lemmas[cube] = None
+        for cube in list(self._lemmas)[: max(len(self._lemmas) - limit, 0)]:
+            del self._lemmas[cube]
 
     def _invariant(self, pdr, query_limit: int) -> Status:
         """Go on with IC3 (:mod:`mega_sat.search.pdr`) up to ``query_limit`` SAT calls in all,

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import heapq
 import itertools
+from collections.abc import Iterable
 
 from pysat.card import CardEnc, EncType
 from pysat.solvers import Solver
@@ -208,6 +209,31 @@ class Pdr:
                 if not self._frames[i]:
                     self._fixpoint = i
                     return Status.UNSOLVABLE  # F_i = F_{i+1}: an inductive invariant
+
+    def seed(self, cubes: Iterable[Cube]) -> int:
+        """Put the cubes (lemmas of earlier invariants, over the same atom ids) that no
+        state reachable within one step is in into ``F_1``, before the first run; how many.
+
+        That is all ``F_1`` must satisfy (hold initially, and after one step from the initial
+        state), so the frames stay over-approximations and every verdict stays exact; the
+        propagation phase pushes a lemma further while it holds one level up.  A model close
+        to one proven unsolvable before (a few updates apart) keeps most of its lemmas, and
+        IC3 then needs far fewer queries.  A literal ``(p, False)`` on an atom outside the
+        relevant part always holds (the atom is false throughout) and is dropped; a cube with
+        ``(p, True)`` on one is empty and is skipped."""
+        if self._levels:
+            raise ValueError("lemmas are seeded before the first run")
+        self._new_level()
+        keep = relevant_atoms(self.task)
+        added = 0
+        for cube in cubes:
+            if any(v and p not in keep for p, v in cube):
+                continue
+            cube = frozenset((p, v) for p, v in cube if p in keep)
+            if cube and not self._in_init(cube) and not self._predecessor(cube, 1)[0]:
+                self._block_at(cube, 1)
+                added += 1
+        return added
 
     def invariant(self) -> tuple[Cube, ...]:
         """After ``UNSOLVABLE``: cubes whose negations together are an inductive invariant of
