@@ -17,7 +17,8 @@ and by dropping literals while that stays true (the query is not made relative t
 state's own negation: on the shipped models the plain query was 2-3 times faster).  Once a
 level's clauses all hold one level up, that level is an inductive invariant: no plan.  A
 chain of predecessors back to the initial state means a plan exists (its cost is not
-computed: the caller only asks whether there is none).
+computed: the caller only asks whether there is none).  :meth:`Pdr.seed` starts ``F_1`` from
+the clauses of earlier invariants that hold there (models a few updates apart share most).
 """
 
 from __future__ import annotations
