@@ -64,6 +64,9 @@ class _LazyPdr:
             self.pdr.close()
 
 
+_BY_INVARIANT = "an inductive invariant (IC3) excludes the goal"
+
+
 class _Unreachable(Exception):
     """Raised between solver chunks when the model is proven to have no plan (the message
     says by which proof)."""
@@ -261,12 +264,8 @@ class OptOracle:
             queries = min(opts.opt_invariant_probe_rate * spent, opts.pdr_queries)
             if ic3.solvable or queries <= 0 or (ic3.pdr is not None and ic3.pdr.queries >= queries):
                 return
-            verdict = self._invariant(ic3.get(), queries)
-            if verdict == Status.UNSOLVABLE:
-                self._keep_invariant(sel, ic3.pdr)
-                raise _Unreachable("an inductive invariant (IC3) excludes the goal")
-            ic3.solvable = verdict == Status.PLAN  # SAT will find the plan
-            solving.check()  # the portfolio's referee may end the call here
+            if self._ic3_turn(sel, ic3, queries):
+                raise _Unreachable(_BY_INVARIANT)
 
         def side_proofs() -> str | None:
             """Once no plan fits ``opt_reachability_steps`` steps: exhaust the reachable
@@ -286,13 +285,9 @@ class OptOracle:
                 if got == Status.PLAN:
                     return None  # some state satisfies the goal: SAT will find the plan
                 queries = min(limit * opts.opt_side_proof_ic3_per_1000 // 1000, opts.pdr_queries)
-                if not ic3.solvable and opts.opt_invariant_probe_rate > 0 and queries > 0:
-                    got = self._invariant(ic3.get(), queries)
-                    if got == Status.UNSOLVABLE:
-                        self._keep_invariant(sel, ic3.pdr)
-                        return "an inductive invariant (IC3) excludes the goal"
-                    ic3.solvable = got == Status.PLAN
-                    solving.check()
+                ic3_on = not ic3.solvable and opts.opt_invariant_probe_rate > 0 and queries > 0
+                if ic3_on and self._ic3_turn(sel, ic3, queries):
+                    return _BY_INVARIANT
                 if ic3.solvable or limit >= opts.opt_reachability_nodes:
                     return None
                 limit = min(2 * limit, opts.opt_reachability_nodes)
@@ -494,13 +489,25 @@ class OptOracle:
             self._keep_invariant(sel, ic3.pdr)
             return OptResult(
                 Status.UNSOLVABLE, None, None, True,
-                reason + "; an inductive invariant (IC3) excludes the goal", calls,
+                f"{reason}; {_BY_INVARIANT}", calls,
                 orc.finish("opt", t0),
             )  # fmt: skip
         return OptResult(
             Status.LIMIT, None, None, False, reason + f"; IC3 gave {verdict.value}",
             calls, orc.finish("opt", t0),
         )  # fmt: skip
+
+    def _ic3_turn(self, sel: frozenset[int], ic3: _LazyPdr, queries: int) -> bool:
+        """Go on with IC3 up to ``queries`` SAT calls in all: ``True`` once it has proven
+        ``sel`` unsolvable (its invariant is kept); ``ic3.solvable`` once it found the goal
+        reachable (SAT will find the plan)."""
+        verdict = self._invariant(ic3.get(), queries)
+        if verdict == Status.UNSOLVABLE:
+            self._keep_invariant(sel, ic3.pdr)
+            return True
+        ic3.solvable = verdict == Status.PLAN
+        self.orc.solving.check()  # the portfolio's referee may end the call here
+        return False
 
     def _keep_invariant(self, sel: frozenset[int], pdr) -> None:
         """Hand the invariant that proved ``sel`` unsolvable to the loop (for its core), and
