@@ -64,6 +64,15 @@ class Options:
             "same time on the shipped domains)"
         },
     )
+    side_proof_min_share: float = field(
+        default=0.0625,
+        metadata={
+            "doc": "least share of its rate that a side proof of SAT OPT keeps on a task "
+            "where it rarely proves a model unsolvable: the probe alongside SAT and IC3 in "
+            "the turns run at min(1, 2 (proofs + 1) / (calls + 1)) of their rate, not below "
+            "this"
+        },
+    )
     opt_reachability_conflicts: int = field(
         default=10_000,
         metadata={

@@ -128,6 +128,67 @@ def test_side_proofs_take_turns(ic3: bool):
         assert orc.stats.opt_by_reachability == (None if ic3 else 1)
 
 
+@pytest.mark.parametrize(
+    "history, floor, how",
+    [
+        (None, 0.0625, "an inductive invariant (IC3)"),
+        ([0, 999], 0.001, "no reachable state satisfies"),
+        ([0, 999], 1.0, "an inductive invariant (IC3)"),
+    ],
+)
+def test_ic3_share_in_turns_follows_its_yield(history, floor, how):
+    """Switches and latches with 16 switches, where IC3 wins the turns at its full share.
+    After 999 OPT calls in which IC3 proved nothing, its share is 1/500 (floor 1/1000), and
+    reachability exhausts the states first; ``side_proof_min_share=1`` keeps the full share.  Either way
+    the answer is exact, and the call counts in IC3's record."""
+    opts = Options(opt_reachability_steps=1, opt_side_proof_states=1000, side_proof_min_share=floor)
+    with SatOracles(switches_and_latches(16), options=opts) as orc:
+        opt = orc.opt_oracle
+        if history is not None:
+            opt._side_yield["ic3 turns"] = list(history)
+        before = list(opt._side_yield["ic3 turns"])
+        r = orc.opt(frozenset())
+        assert r.status == Status.UNSOLVABLE and r.exact
+        assert r.reason.startswith("no plan within 2 steps, and " + how)
+        won = int(how.startswith("an inductive"))
+        assert opt._side_yield["ic3 turns"] == [before[0] + won, before[1] + 1]
+        assert opt._side_yield["probe"] == [0, 0]  # the probe never started
+
+
+def test_side_share_formula():
+    """Whole while a side proof ends about half of its calls or more, then falling with its
+    yield down to ``side_proof_min_share``."""
+    with SatOracles(switches_and_latches(2), options=Options(side_proof_min_share=0.1)) as orc:
+        opt = orc.opt_oracle
+        for record, share in (([0, 0], 1.0), ([5, 11], 1.0), ([1, 7], 0.5), ([0, 99], 0.1)):
+            opt._side_yield["probe"] = record
+            assert opt._side_share("probe") == share
+
+
+@pytest.mark.parametrize("history", [None, [0, 100]])
+def test_probe_alongside_sat_follows_its_yield(history):
+    """The probe alongside SAT (no turns: they start past 1000 steps) proves switches and
+    latches unsolvable at its full rate, and still at a sixteenth of it; the call counts in
+    the probe's record."""
+    opts = Options(
+        first_chunk=1,
+        solve_chunk=1,
+        opt_reachability_conflicts=0,
+        opt_reachability_steps=1000,
+        opt_reachability_probe_rate=10**5,
+        opt_invariant_probe_rate=1000,
+    )
+    with SatOracles(switches_and_latches(16), options=opts) as orc:
+        opt = orc.opt_oracle
+        if history is not None:
+            opt._side_yield["probe"] = list(history)
+        before = list(opt._side_yield["probe"])
+        r = orc.opt(frozenset())
+        assert r.status == Status.UNSOLVABLE and r.exact
+        assert r.reason.endswith("(checked while SAT looked for a plan)")
+        assert opt._side_yield["probe"] == [before[0] + 1, before[1] + 1]
+
+
 class _Proven:
     """Stands in for IC3 after ``UNSOLVABLE``: only its invariant's cubes are read."""
 

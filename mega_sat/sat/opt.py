@@ -97,6 +97,8 @@ class OptOracle:
         self.invariants: dict[frozenset[int], tuple[frozenset[tuple[int, bool]], ...]] = {}
         # the cubes of the latest invariants, most recent last: IC3's seeds for the next model
         self._lemmas: dict[frozenset[tuple[int, bool]], None] = {}
+        # per side proof that shares SAT's time: [OPT calls it proved, OPT calls it ran in]
+        self._side_yield: dict[str, list[int]] = {"probe": [0, 0], "ic3 turns": [0, 0]}
         self.searches_hit = 0
         self.searches_missed = 0
         self.search_steps_saved = 0
@@ -235,6 +237,7 @@ class OptOracle:
         h = min(max(lb_steps, 1), cap)
         reach = None  # the model's reachable states, explored once SAT needs long
         start = solving.conflicts()
+        probing = turning = False  # this call's probe and IC3 turns have started
 
         def reachable(limit: int) -> Status:
             nonlocal reach
@@ -255,16 +258,25 @@ class OptOracle:
             part of a model whose unsolvable horizons are hard for SAT is often small, and
             where it is not, an invariant may still be; neither check touches the solver,
             so a model with a plan is answered as before."""
+            nonlocal probing
             spent = None if start is None else solving.conflicts() - start
             if spent is None or spent < opts.opt_reachability_conflicts:
                 return
-            limit = min(opts.opt_reachability_probe_rate * spent, opts.opt_reachability_nodes)
+            if not probing:
+                probing = True
+                self._side_yield["probe"][1] += 1
+            share = self._side_share("probe")
+            limit = min(
+                int(opts.opt_reachability_probe_rate * spent * share), opts.opt_reachability_nodes
+            )
             if reachable(limit) == Status.UNSOLVABLE:
+                self._side_yield["probe"][0] += 1
                 raise _Unreachable("no reachable state satisfies the goal")
-            queries = min(opts.opt_invariant_probe_rate * spent, opts.pdr_queries)
+            queries = min(int(opts.opt_invariant_probe_rate * spent * share), opts.pdr_queries)
             if ic3.solvable or queries <= 0 or (ic3.pdr is not None and ic3.pdr.queries >= queries):
                 return
             if self._ic3_turn(sel, ic3, queries):
+                self._side_yield["probe"][0] += 1
                 raise _Unreachable(_BY_INVARIANT)
 
         def side_proofs() -> str | None:
@@ -277,16 +289,25 @@ class OptOracle:
             invariant); in turns each costs at most about twice what it needs plus as much
             of the other.  The reason of the proof, or ``None`` (SAT goes on, and the probe
             with it)."""
+            nonlocal turning
             limit = min(opts.opt_side_proof_states, opts.opt_reachability_nodes)
+            share = self._side_share("ic3 turns")
             while True:
                 got = reachable(limit)
                 if got == Status.UNSOLVABLE:
                     return "no reachable state satisfies the goal"
                 if got == Status.PLAN:
                     return None  # some state satisfies the goal: SAT will find the plan
-                queries = min(limit * opts.opt_side_proof_ic3_per_1000 // 1000, opts.pdr_queries)
+                queries = min(
+                    int(limit * opts.opt_side_proof_ic3_per_1000 * share) // 1000,
+                    opts.pdr_queries,
+                )
                 ic3_on = not ic3.solvable and opts.opt_invariant_probe_rate > 0 and queries > 0
+                if ic3_on and not turning:
+                    turning = True
+                    self._side_yield["ic3 turns"][1] += 1
                 if ic3_on and self._ic3_turn(sel, ic3, queries):
+                    self._side_yield["ic3 turns"][0] += 1
                     return _BY_INVARIANT
                 if ic3.solvable or limit >= opts.opt_reachability_nodes:
                     return None
@@ -496,6 +517,16 @@ class OptOracle:
             Status.LIMIT, None, None, False, reason + f"; IC3 gave {verdict.value}",
             calls, orc.finish("opt", t0),
         )  # fmt: skip
+
+    def _side_share(self, kind: str) -> float:
+        """The share of its full rate that the side proof ``kind`` gets in this OPT call:
+        ``min(1, 2 (proofs + 1) / (calls + 1))`` over the earlier OPT calls it ran in, at
+        least ``side_proof_min_share``.  It stays whole while the proof ends at least about
+        half of the calls it runs in; on a task whose models it never proves unsolvable, the
+        time it takes from SAT (and, in the turns, IC3's from reachability) shrinks.  Counts,
+        not seconds, so every run makes the same calls."""
+        proved, ran = self._side_yield[kind]
+        return max(min(1.0, 2 * (proved + 1) / (ran + 1)), self.options.side_proof_min_share)
 
     def _ic3_turn(self, sel: frozenset[int], ic3: _LazyPdr, queries: int) -> bool:
         """Go on with IC3 up to ``queries`` SAT calls in all: ``True`` once it has proven
