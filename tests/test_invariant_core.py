@@ -157,12 +157,15 @@ def test_ic3_share_in_turns_follows_its_yield(history, floor, how):
 
 def test_side_share_formula():
     """Whole while a side proof ends about half of its calls or more, then falling with its
-    yield down to ``side_proof_min_share``."""
+    yield down to ``side_proof_min_share``, and never above 1."""
     with SatOracles(switches_and_latches(2), options=Options(side_proof_min_share=0.1)) as orc:
         opt = orc.opt_oracle
         for record, share in (([0, 0], 1.0), ([5, 11], 1.0), ([1, 7], 0.5), ([0, 99], 0.1)):
             opt._side_yield["probe"] = record
             assert opt._side_share("probe") == share
+    with SatOracles(switches_and_latches(2), options=Options(side_proof_min_share=2.0)) as orc:
+        orc.opt_oracle._side_yield["probe"] = [0, 99]
+        assert orc.opt_oracle._side_share("probe") == 1.0  # a floor above 1 is the full rate
 
 
 @pytest.mark.parametrize("history", [None, [0, 100]])

@@ -237,7 +237,7 @@ class OptOracle:
         h = min(max(lb_steps, 1), cap)
         reach = None  # the model's reachable states, explored once SAT needs long
         start = solving.conflicts()
-        probing = turning = False  # this call's probe and IC3 turns have started
+        probe_share: float | None = None  # the probe's share in this call, once it starts
 
         def reachable(limit: int) -> Status:
             nonlocal reach
@@ -257,15 +257,16 @@ class OptOracle:
             ``pdr_queries``), so that each check costs about what SAT spends.  The relevant
             part of a model whose unsolvable horizons are hard for SAT is often small, and
             where it is not, an invariant may still be; neither check touches the solver,
-            so a model with a plan is answered as before."""
-            nonlocal probing
+            so a model with a plan is answered as before.  Both rates are scaled by the
+            probe's record on this task (:meth:`_side_share`)."""
+            nonlocal probe_share
             spent = None if start is None else solving.conflicts() - start
             if spent is None or spent < opts.opt_reachability_conflicts:
                 return
-            if not probing:
-                probing = True
+            if probe_share is None:
+                probe_share = self._side_share("probe")
                 self._side_yield["probe"][1] += 1
-            share = self._side_share("probe")
+            share = probe_share
             limit = min(
                 int(opts.opt_reachability_probe_rate * spent * share), opts.opt_reachability_nodes
             )
@@ -284,14 +285,15 @@ class OptOracle:
             states and build an invariant (IC3) in turns, each turn doubling both limits
             (from ``opt_side_proof_states`` states up to ``opt_reachability_nodes``; IC3 gets
             ``opt_side_proof_ic3_per_1000`` SAT calls per 1000 states, about the same time;
-            none if ``opt_invariant_probe_rate`` is 0).  Which proof is cheaper differs
+            none if ``opt_invariant_probe_rate`` is 0; scaled by IC3's record in the turns on
+            this task, :meth:`_side_share`).  Which proof is cheaper differs
             from model to model (a small state space, or a large one with a short
             invariant); in turns each costs at most about twice what it needs plus as much
             of the other.  The reason of the proof, or ``None`` (SAT goes on, and the probe
             with it)."""
-            nonlocal turning
             limit = min(opts.opt_side_proof_states, opts.opt_reachability_nodes)
             share = self._side_share("ic3 turns")
+            turning = False  # IC3 has had a turn in this call
             while True:
                 got = reachable(limit)
                 if got == Status.UNSOLVABLE:
@@ -521,12 +523,12 @@ class OptOracle:
     def _side_share(self, kind: str) -> float:
         """The share of its full rate that the side proof ``kind`` gets in this OPT call:
         ``min(1, 2 (proofs + 1) / (calls + 1))`` over the earlier OPT calls it ran in, at
-        least ``side_proof_min_share``.  It stays whole while the proof ends at least about
+        least ``side_proof_min_share`` (and at most 1).  It stays whole while the proof ends at least about
         half of the calls it runs in; on a task whose models it never proves unsolvable, the
         time it takes from SAT (and, in the turns, IC3's from reachability) shrinks.  Counts,
         not seconds, so every run makes the same calls."""
         proved, ran = self._side_yield[kind]
-        return max(min(1.0, 2 * (proved + 1) / (ran + 1)), self.options.side_proof_min_share)
+        return min(1.0, max(2 * (proved + 1) / (ran + 1), self.options.side_proof_min_share))
 
     def _ic3_turn(self, sel: frozenset[int], ic3: _LazyPdr, queries: int) -> bool:
         """Go on with IC3 up to ``queries`` SAT calls in all: ``True`` once it has proven
