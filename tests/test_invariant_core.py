@@ -128,6 +128,19 @@ def test_side_proofs_take_turns(ic3: bool):
         assert orc.stats.opt_by_reachability == (None if ic3 else 1)
 
 
+def opt_with_record(opts: Options, kind: str, history: list[int] | None):
+    """OPT of switches and latches (16 switches) with the side proof ``kind``'s record set
+    to ``history`` first (None: a fresh one): the answer, and the record before and after."""
+    with SatOracles(switches_and_latches(16), options=opts) as orc:
+        record = orc.opt_oracle._side_yield
+        if history is not None:
+            record[kind] = list(history)
+        before = list(record[kind])
+        r = orc.opt(frozenset())
+        assert r.status == Status.UNSOLVABLE and r.exact
+        return r, before, record
+
+
 @pytest.mark.parametrize(
     "history, floor, how",
     [
@@ -139,20 +152,14 @@ def test_side_proofs_take_turns(ic3: bool):
 def test_ic3_share_in_turns_follows_its_yield(history, floor, how):
     """Switches and latches with 16 switches, where IC3 wins the turns at its full share.
     After 999 OPT calls in which IC3 proved nothing, its share is 1/500 (floor 1/1000), and
-    reachability exhausts the states first; ``side_proof_min_share=1`` keeps the full share.  Either way
-    the answer is exact, and the call counts in IC3's record."""
+    reachability exhausts the states first; ``side_proof_min_share=1`` keeps the full share.
+    Either way the answer is exact, and the call counts in IC3's record."""
     opts = Options(opt_reachability_steps=1, opt_side_proof_states=1000, side_proof_min_share=floor)
-    with SatOracles(switches_and_latches(16), options=opts) as orc:
-        opt = orc.opt_oracle
-        if history is not None:
-            opt._side_yield["ic3 turns"] = list(history)
-        before = list(opt._side_yield["ic3 turns"])
-        r = orc.opt(frozenset())
-        assert r.status == Status.UNSOLVABLE and r.exact
-        assert r.reason.startswith("no plan within 2 steps, and " + how)
-        won = int(how.startswith("an inductive"))
-        assert opt._side_yield["ic3 turns"] == [before[0] + won, before[1] + 1]
-        assert opt._side_yield["probe"] == [0, 0]  # the probe never started
+    r, before, record = opt_with_record(opts, "ic3 turns", history)
+    assert r.reason.startswith("no plan within 2 steps, and " + how)
+    won = int(how.startswith("an inductive"))
+    assert record["ic3 turns"] == [before[0] + won, before[1] + 1]
+    assert record["probe"] == [0, 0]  # the probe never started
 
 
 def test_side_share_formula():
@@ -181,15 +188,9 @@ def test_probe_alongside_sat_follows_its_yield(history):
         opt_reachability_probe_rate=10**5,
         opt_invariant_probe_rate=1000,
     )
-    with SatOracles(switches_and_latches(16), options=opts) as orc:
-        opt = orc.opt_oracle
-        if history is not None:
-            opt._side_yield["probe"] = list(history)
-        before = list(opt._side_yield["probe"])
-        r = orc.opt(frozenset())
-        assert r.status == Status.UNSOLVABLE and r.exact
-        assert r.reason.endswith("(checked while SAT looked for a plan)")
-        assert opt._side_yield["probe"] == [before[0] + 1, before[1] + 1]
+    r, before, record = opt_with_record(opts, "probe", history)
+    assert r.reason.endswith("(checked while SAT looked for a plan)")
+    assert record["probe"] == [before[0] + 1, before[1] + 1]
 
 
 class _Proven:
