@@ -64,7 +64,7 @@ class Options:
             "same time on the shipped domains)"
         },
     )
-    side_proof_min_share: float = field(
+    opt_side_proof_min_share: float = field(
         default=0.0625,
         metadata={
             "doc": "least share of its rate that a side proof of SAT OPT keeps on a task "

@@ -152,9 +152,11 @@ def opt_with_record(opts: Options, kind: str, history: list[int] | None):
 def test_ic3_share_in_turns_follows_its_yield(history, floor, how):
     """Switches and latches with 16 switches, where IC3 wins the turns at its full share.
     After 999 OPT calls in which IC3 proved nothing, its share is 1/500 (floor 1/1000), and
-    reachability exhausts the states first; ``side_proof_min_share=1`` keeps the full share.
+    reachability exhausts the states first; ``opt_side_proof_min_share=1`` keeps the full share.
     Either way the answer is exact, and the call counts in IC3's record."""
-    opts = Options(opt_reachability_steps=1, opt_side_proof_states=1000, side_proof_min_share=floor)
+    opts = Options(
+        opt_reachability_steps=1, opt_side_proof_states=1000, opt_side_proof_min_share=floor
+    )
     r, before, record = opt_with_record(opts, "ic3 turns", history)
     assert r.reason.startswith("no plan within 2 steps, and " + how)
     won = int(how.startswith("an inductive"))
@@ -164,13 +166,13 @@ def test_ic3_share_in_turns_follows_its_yield(history, floor, how):
 
 def test_side_share_formula():
     """Whole while a side proof ends about half of its calls or more, then falling with its
-    yield down to ``side_proof_min_share``, and never above 1."""
-    with SatOracles(switches_and_latches(2), options=Options(side_proof_min_share=0.1)) as orc:
+    yield down to ``opt_side_proof_min_share``, and never above 1."""
+    with SatOracles(switches_and_latches(2), options=Options(opt_side_proof_min_share=0.1)) as orc:
         opt = orc.opt_oracle
         for record, share in (([0, 0], 1.0), ([5, 11], 1.0), ([1, 7], 0.5), ([0, 99], 0.1)):
             opt._side_yield["probe"] = record
             assert opt._side_share("probe") == share
-    with SatOracles(switches_and_latches(2), options=Options(side_proof_min_share=2.0)) as orc:
+    with SatOracles(switches_and_latches(2), options=Options(opt_side_proof_min_share=2.0)) as orc:
         orc.opt_oracle._side_yield["probe"] = [0, 99]
         assert orc.opt_oracle._side_share("probe") == 1.0  # a floor above 1 is the full rate
 

@@ -266,14 +266,16 @@ class OptOracle:
             if probe_share is None:
                 probe_share = self._side_share("probe")
                 self._side_yield["probe"][1] += 1
-            share = probe_share
             limit = min(
-                int(opts.opt_reachability_probe_rate * spent * share), opts.opt_reachability_nodes
+                int(opts.opt_reachability_probe_rate * spent * probe_share),
+                opts.opt_reachability_nodes,
             )
             if reachable(limit) == Status.UNSOLVABLE:
                 self._side_yield["probe"][0] += 1
                 raise _Unreachable("no reachable state satisfies the goal")
-            queries = min(int(opts.opt_invariant_probe_rate * spent * share), opts.pdr_queries)
+            queries = min(
+                int(opts.opt_invariant_probe_rate * spent * probe_share), opts.pdr_queries
+            )
             if ic3.solvable or queries <= 0 or (ic3.pdr is not None and ic3.pdr.queries >= queries):
                 return
             if self._ic3_turn(sel, ic3, queries):
@@ -523,12 +525,12 @@ class OptOracle:
     def _side_share(self, kind: str) -> float:
         """The share of its full rate that the side proof ``kind`` gets in this OPT call:
         ``min(1, 2 (proofs + 1) / (calls + 1))`` over the earlier OPT calls it ran in, at
-        least ``side_proof_min_share`` (and at most 1).  It stays whole while the proof ends at least about
-        half of the calls it runs in; on a task whose models it never proves unsolvable, the
-        time it takes from SAT (and, in the turns, IC3's from reachability) shrinks.  Counts,
-        not seconds, so every run makes the same calls."""
+        least ``opt_side_proof_min_share`` (and at most 1).  It stays whole while the proof
+        ends about half of the calls it runs in or more; on a task whose models it never
+        proves unsolvable, the time it takes from SAT (and, in the turns, IC3's from
+        reachability) shrinks.  Counts, not seconds, so every run makes the same calls."""
         proved, ran = self._side_yield[kind]
-        return min(1.0, max(2 * (proved + 1) / (ran + 1), self.options.side_proof_min_share))
+        return min(1.0, max(2 * (proved + 1) / (ran + 1), self.options.opt_side_proof_min_share))
 
     def _ic3_turn(self, sel: frozenset[int], ic3: _LazyPdr, queries: int) -> bool:
         """Go on with IC3 up to ``queries`` SAT calls in all: ``True`` once it has proven
