@@ -221,14 +221,14 @@ def test_horizon_cap_is_reported_not_hidden():
 def test_horizon_cap_fallback_stops_at_the_deadline():
     """Past the horizon cap OPT falls back to explicit search; with a deadline that search
     gets only the time left, and a search cut short raises (nothing proven, nothing cached)
-    instead of answering "unknown" for good.  Sixteen free switches make the state space
-    2^16 times the chain's, too large to exhaust in 0.3 s."""
+    instead of answering "unknown" for good.  Twenty-four free switches make the state space
+    2^24 times the chain's, too large to exhaust in 0.3 s."""
     import time
     from dataclasses import replace
 
     from mega_sat.sat.oracles import OracleInterrupted
 
-    n, k = 8, 16
+    n, k = 8, 24
     fam = _chain(n)
     switches = tuple(
         GroundAction(name, (str(i),), None, (), (), add, delete, (((), 1),))
