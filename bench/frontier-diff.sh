@@ -1,6 +1,7 @@
 #!/bin/bash
 # Frontiers of the paper grid (Delta = 2/7/10, 36 tasks) from two source trees, compared with
-# their timing fields removed, and the wall seconds of each tree's runs.
+# their timing fields removed (and, for each that differs, the coarsest difference: pairs,
+# explanations, witness plans or stats), and the wall seconds of each tree's runs.
 # usage: bench/frontier-diff.sh OLD_TREE NEW_TREE [OUT_DIR]
 #   e.g. git worktree add /tmp/old <commit>; bench/frontier-diff.sh /tmp/old "$PWD"
 # Run from the repository root with the project's .venv; each tree's mega_sat is put first on
@@ -40,4 +41,21 @@ same = [n for n in old if strip(json.load((out / "old" / f"{n}.json").open()))
         == strip(json.load((out / "new" / f"{n}.json").open()))]
 print(f"identical frontiers (timings removed): {len(same)} of {len(old)}")
 print(f"wall seconds: old {sum(old.values()):.1f}, new {sum(new.values()):.1f}")
+def what_differs(a, b):
+    """The coarsest difference: the (cost(E), robot cost) pairs (a wrong answer), then the
+    explanations, the witness plans, other frontier fields, or the rest (stats, notes)."""
+    fa, fb = a.get("frontier", []), b.get("frontier", [])
+    def pairs(f):
+        return [(len(p.get("explanation", [])), p.get("robot_cost")) for p in f]
+    if pairs(fa) != pairs(fb) or a.get("exact") != b.get("exact"):
+        return f"PAIRS {pairs(fa)} / {pairs(fb)}"
+    for field in ("explanation", "plan"):
+        if [p.get(field) for p in fa] != [p.get(field) for p in fb]:
+            return f"{field}s"
+    return "other frontier fields" if fa != fb else "stats or notes only"
+for n in old:
+    if n not in same:
+        a = strip(json.load((out / "old" / f"{n}.json").open()))
+        b = strip(json.load((out / "new" / f"{n}.json").open()))
+        print(f"  {n}: {what_differs(a, b)}")
 PY
