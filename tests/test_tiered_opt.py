@@ -94,3 +94,46 @@ def test_every_tier_gives_the_optimal_cost_on_every_model(fam, states, bounds_fi
             assert r.status == "unsolvable"
         else:
             assert r.status == "optimal" and r.cost == c and plan_cost(task, r.plan) == c
+
+
+_NUMPY_BEFORE_THE_PLANNER = """
+import sys
+from mega_sat.ground.family import GroundAction, GroundFamily
+from mega_sat.options import DEFAULT
+from mega_sat.planners.tiered_opt import TieredOpt
+from mega_sat.search.astar import PlanResult
+from mega_sat.status import Status
+n = 12  # 2^12 states, the goal (every switch on) last: past VECTOR_AFTER expansions
+acts = tuple(
+    GroundAction(f"on{i}", (), None, (), (), ((i, None),), (), (((), 1),)) for i in range(n)
+)
+fam = GroundFamily(tuple((f"s{i}",) for i in range(n)), 0, acts, (), tuple((i, None) for i in range(n)))
+class Planner:
+    kind = "portfolio"
+    options = DEFAULT.__class__(quick_nodes=int(sys.argv[1]))
+    def optimal(self, sel):
+        print("vector search imported:", "mega_sat.search.vector_search" in sys.modules)
+        return PlanResult(Status.OPTIMAL, tuple((f"on{i}",) for i in range(n)), n, True, "sat", 0.0, "")
+assert "mega_sat.search.vector_search" not in sys.modules
+print(TieredOpt(fam, Planner()).optimal(frozenset()).planner)
+"""
+
+
+def test_a_quick_search_past_the_vector_threshold_imports_numpy_before_the_planner():
+    """The planner's search passes the same states as the quick tier that missed; past
+    ``VECTOR_AFTER`` expansions it goes on in numpy, imported once before a forked race starts
+    (a clean interpreter, so that no other test's imports count)."""
+    import subprocess
+    import sys
+
+    def run(quick_nodes: int) -> str:
+        return subprocess.run(
+            [sys.executable, "-c", _NUMPY_BEFORE_THE_PLANNER, str(quick_nodes)],
+            capture_output=True,
+            text=True,
+            check=True,
+        ).stdout
+
+    assert run(3000) == "vector search imported: True\nsat\n"  # missed after 3000 expansions
+    assert run(1000) == "vector search imported: False\nsat\n"  # missed below the threshold
+    assert run(9000) == "quick_search\n"  # 4095 expansions: the quick tier answers

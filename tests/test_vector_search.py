@@ -96,7 +96,7 @@ def _grid(width: int, zero_every: int) -> GroundTask:
 
 
 def test_large_searches_agree_with_the_python_search_and_switch_over():
-    """Searches past ``_VECTOR_AFTER`` expansions, through the public generator (which moves to
+    """Searches past ``VECTOR_AFTER`` expansions, through the public generator (which moves to
     numpy midway): the answer and every count yielded are the pure-Python search's."""
     for width, zero_every in ((5, 4), (6, 7)):
         task = _grid(width, zero_every)
@@ -104,7 +104,7 @@ def test_large_searches_agree_with_the_python_search_and_switch_over():
         goal = sum(1 << p for p in task.goal)
         py, py_counts = _run(_python_uniform_cost_steps(task, init, goal))
         mixed, mixed_counts = _run(astar_mod.uniform_cost_steps(task, init, goal))
-        assert py[0] == Status.OPTIMAL and py[3] > astar_mod._VECTOR_AFTER
+        assert py[0] == Status.OPTIMAL and py[3] > astar_mod.VECTOR_AFTER
         assert mixed == py and mixed_counts == py_counts
         # unsolvable: the goal needs a coin that does not exist, after exhausting the space
         dead = GroundTask(task.atoms + (("never",),), task.actions, task.init,

@@ -41,7 +41,7 @@ from mega_sat.ground.simulate import ground_plan_cost
 from mega_sat.model.lifted import PlanStep
 from mega_sat.options import Options
 from mega_sat.planners.node_planner import NodePlanner
-from mega_sat.search.astar import PlanResult, astar
+from mega_sat.search.astar import VECTOR_AFTER, PlanResult, astar
 from mega_sat.status import Status
 
 _INF = float("inf")
@@ -182,6 +182,11 @@ class TieredOpt:
             self.quick_budget.record(r.status.decided)
             if r.status.decided:
                 return self._done(r.status, r.plan, r.cost, "quick_search", t0)
+            if r.expanded is not None and r.expanded >= VECTOR_AFTER:
+                # the planner's uniform-cost search will pass the same states and go on in
+                # numpy: imported here once, a forked race starts with it instead of paying
+                # the import in the child, where every run waits for it (times, not answers)
+                import mega_sat.search.vector_search  # noqa: F401
         self.stats["opt_by_planner"] += 1
         r = self.planner.optimal(sel)
         if r.status.decided:  # which planner answered (the portfolio's winner)

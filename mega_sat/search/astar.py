@@ -273,7 +273,7 @@ def _uniform_cost(
         return done.value
 
 
-_VECTOR_AFTER = 2048
+VECTOR_AFTER = 2048
 """Expansions after which uniform-cost search moves to numpy layers: building the arrays
 costs a few milliseconds, what a pure-Python search of a few hundred states costs."""
 
@@ -283,12 +283,12 @@ def uniform_cost_steps(task: GroundTask, init: int, goal: int, node_limit: int |
     count of expanded states every few expansions and returns ``(status, plan, cost,
     expanded)``.  The portfolio planner runs it in time slices without starting over.
 
-    Small searches run in pure Python; one that passes ``_VECTOR_AFTER`` expansions starts
+    Small searches run in pure Python; one that passes ``VECTOR_AFTER`` expansions starts
     again as :func:`mega_sat.search.vector_search.vector_uniform_cost_steps`, which expands the
     same states in the same order and yields the same counts, so the caller sees one search."""
     python = _python_uniform_cost_steps(task, init, goal, node_limit)
     try:
-        while (seen := next(python)) < _VECTOR_AFTER:
+        while (seen := next(python)) < VECTOR_AFTER:
             yield seen
     except StopIteration as done:
         return done.value
@@ -361,8 +361,8 @@ def _python_uniform_cost_steps(
 
 def uniform_cost_work(expanded: int, vector_weight: float) -> float:
     """The work of ``expanded`` uniform-cost expansions counted in pure-Python ones: those
-    past the first ``_VECTOR_AFTER`` run vectorised and count ``vector_weight`` each."""
-    return min(expanded, _VECTOR_AFTER) + vector_weight * max(expanded - _VECTOR_AFTER, 0)
+    past the first ``VECTOR_AFTER`` run vectorised and count ``vector_weight`` each."""
+    return min(expanded, VECTOR_AFTER) + vector_weight * max(expanded - VECTOR_AFTER, 0)
 
 
 def _evaluations(steps):
