@@ -99,7 +99,7 @@ def test_every_tier_gives_the_optimal_cost_on_every_model(fam, states, bounds_fi
 _NUMPY_BEFORE_THE_PLANNER = """
 import sys
 from mega_sat.ground.family import GroundAction, GroundFamily
-from mega_sat.options import DEFAULT
+from mega_sat.options import Options
 from mega_sat.planners.tiered_opt import TieredOpt
 from mega_sat.search.astar import PlanResult
 from mega_sat.status import Status
@@ -107,13 +107,15 @@ n = 12  # 2^12 states, the goal (every switch on) last: past VECTOR_AFTER expans
 acts = tuple(
     GroundAction(f"on{i}", (), None, (), (), ((i, None),), (), (((), 1),)) for i in range(n)
 )
-fam = GroundFamily(tuple((f"s{i}",) for i in range(n)), 0, acts, (), tuple((i, None) for i in range(n)))
+goal = tuple((i, None) for i in range(n))
+fam = GroundFamily(tuple((f"s{i}",) for i in range(n)), 0, acts, (), goal)
 class Planner:
-    kind = "portfolio"
-    options = DEFAULT.__class__(quick_nodes=int(sys.argv[1]))
+    kind = sys.argv[2]
+    options = Options(quick_nodes=int(sys.argv[1]))
     def optimal(self, sel):
         print("vector search imported:", "mega_sat.search.vector_search" in sys.modules)
-        return PlanResult(Status.OPTIMAL, tuple((f"on{i}",) for i in range(n)), n, True, "sat", 0.0, "")
+        plan = tuple((f"on{i}",) for i in range(n))
+        return PlanResult(Status.OPTIMAL, plan, n, True, "sat", 0.0, "")
 assert "mega_sat.search.vector_search" not in sys.modules
 print(TieredOpt(fam, Planner()).optimal(frozenset()).planner)
 """
@@ -121,14 +123,14 @@ print(TieredOpt(fam, Planner()).optimal(frozenset()).planner)
 
 def test_a_quick_search_past_the_vector_threshold_imports_numpy_before_the_planner():
     """The planner's search passes the same states as the quick tier that missed; past
-    ``VECTOR_AFTER`` expansions it goes on in numpy, imported once before a forked race starts
-    (a clean interpreter, so that no other test's imports count)."""
+    ``VECTOR_AFTER`` expansions it goes on in numpy, imported once before the portfolio's
+    forked race starts (a clean interpreter, so that no other test's imports count)."""
     import subprocess
     import sys
 
-    def run(quick_nodes: int) -> str:
+    def run(quick_nodes: int, kind: str = "portfolio") -> str:
         return subprocess.run(
-            [sys.executable, "-c", _NUMPY_BEFORE_THE_PLANNER, str(quick_nodes)],
+            [sys.executable, "-c", _NUMPY_BEFORE_THE_PLANNER, str(quick_nodes), kind],
             capture_output=True,
             text=True,
             check=True,
@@ -137,3 +139,4 @@ def test_a_quick_search_past_the_vector_threshold_imports_numpy_before_the_plann
     assert run(3000) == "vector search imported: True\nsat\n"  # missed after 3000 expansions
     assert run(1000) == "vector search imported: False\nsat\n"  # missed below the threshold
     assert run(9000) == "quick_search\n"  # 4095 expansions: the quick tier answers
+    assert run(3000, "sat") == "vector search imported: False\nsat\n"  # no race, no child

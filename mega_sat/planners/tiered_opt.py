@@ -182,7 +182,11 @@ class TieredOpt:
             self.quick_budget.record(r.status.decided)
             if r.status.decided:
                 return self._done(r.status, r.plan, r.cost, "quick_search", t0)
-            if r.expanded is not None and r.expanded >= VECTOR_AFTER:
+            if (
+                self.planner.kind == "portfolio"
+                and r.expanded is not None
+                and r.expanded >= VECTOR_AFTER
+            ):
                 # the planner's uniform-cost search will pass the same states and go on in
                 # numpy: imported here once, a forked race starts with it instead of paying
                 # the import in the child, where every run waits for it (times, not answers)
