@@ -155,13 +155,22 @@ class Options:
         },
     )
     plan_below_robot_nodes: int = field(
-        default=0,
+        default=3000,
         metadata={
             "doc": "expansions of the search pruned at the robot optimum that looks for that "
             "cheaper human plan before the SAT call (its plan is the model's optimum, an "
             "exhausted search proves there is none); halves after each miss, doubles after "
-            "each hit (0: SAT only; faster on small tasks, but its plans lead some large ones "
-            "a longer way, bench/README.md)",
+            "each hit (0: SAT only)",
+            "zero": True,
+        },
+    )
+    plan_below_robot_max_updates: int = field(
+        default=10,
+        metadata={
+            "doc": "the most updates a task may have for that search to run: with few, the "
+            "SAT call's encoding is most of the work; with many, its plans (the model's "
+            "optimum, where SAT returns any plan below the robot's) lead the loop longer "
+            "ways (bench/README.md; 0: never)",
             "zero": True,
         },
     )

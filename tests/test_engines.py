@@ -133,6 +133,30 @@ def test_joint_before_opt_decides_candidates_without_opt_and_keeps_the_frontier(
     assert runs[True].stats["opt_calls"] < runs[False].stats["opt_calls"]
 
 
+def test_the_search_below_the_robot_optimum_runs_only_up_to_its_number_of_updates():
+    """barman-bar Δ7 p2 (7 updates): the search pruned at the robot optimum answers some
+    candidates by default, none once the limit is below 7 or its budget is 0, and the
+    frontier is the same either way."""
+    from pathlib import Path
+
+    from mega_sat.pddl.loading import load_task_dir
+
+    task = load_task_dir(Path(__file__).parent.parent / "domains/barman-bar/delta/7/p2")
+    fam = ground(task)
+    runs = [
+        sat_frontier(task, fam, options=o)
+        for o in (
+            Options(),
+            Options(plan_below_robot_max_updates=6),
+            Options(plan_below_robot_nodes=0),
+        )
+    ]
+    assert runs[0].stats["plan_below_robot_by_search"] > 0
+    assert [r.stats["plan_below_robot_by_search"] for r in runs[1:]] == [0, 0]
+    assert _pairs(runs[0].points) == _pairs(runs[1].points) == _pairs(runs[2].points)
+    assert all(r.exact for r in runs)
+
+
 @SETTINGS
 @given(TASKS)
 def test_mce_equals_brute_force(task):

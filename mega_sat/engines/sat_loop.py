@@ -236,7 +236,8 @@ def sat_frontier(
         stats["joint_calls"] += 1
         return res
 
-    below_nodes = NodeBudget(options.plan_below_robot_nodes)
+    small = len(task.delta) <= options.plan_below_robot_max_updates
+    below_nodes = NodeBudget(options.plan_below_robot_nodes if small else 0)
 
     def plan_below_robot(sel, known: Bounds) -> Bounds:
         """``known`` with a plan of ``human + sel`` cheaper than the robot optimum, when one
