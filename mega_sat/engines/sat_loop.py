@@ -236,7 +236,8 @@ def sat_frontier(
         stats["joint_calls"] += 1
         return res
 
-    small = len(task.delta) <= options.plan_below_robot_max_updates
+    most = options.plan_below_robot_max_updates
+    small = most > 0 and len(task.delta) <= most  # 0: never, not even without updates
     below_nodes = NodeBudget(options.plan_below_robot_nodes if small else 0)
 
     def plan_below_robot(sel, known: Bounds) -> Bounds:
