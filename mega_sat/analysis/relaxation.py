@@ -8,6 +8,7 @@ same :class:`RelaxedTask`.
 from __future__ import annotations
 
 import heapq
+from collections.abc import Sequence
 
 from mega_sat.ground.family import GroundTask
 
@@ -30,7 +31,12 @@ class RelaxedTask:
 
     Add effects on atoms that are neither a precondition nor a goal are dropped: they cannot
     change h^max of the goal or any LM-cut landmark, and skipping them makes every evaluation
-    cheaper (half the facts of a two-fact abstraction are such atoms)."""
+    cheaper (half the facts of a two-fact abstraction are such atoms).
+
+    Static atoms (initially true, deleted by no action, needed) are most preconditions of
+    typical ground tasks. In a state that holds them all, h^max visits them without counting
+    them one precondition at a time, with the same values and the same choice function
+    (see :meth:`hmax`)."""
 
     def __init__(self, task: GroundTask):
         n = len(task.atoms)
@@ -57,45 +63,76 @@ class RelaxedTask:
                 self.pre_of[q].append(j)
             for q in ad:
                 self.achievers[q].append(j)
+        # heap entries are ints (h << shift) | atom: ordered as the pairs (h, atom)
+        self._shift = max(1, self.n_atoms.bit_length())
+        deleted = set().union(*(a.delete for a in task.actions))
+        static = sorted(p for p in task.init if p not in deleted and p in needed)
+        self._static, self._static_set = static, frozenset(static)
+        self._general = _Counting(self, ())
+        self._with_static = _Counting(self, static)
+
+    def _counting(self, state: list[int]) -> _Counting:
+        return self._with_static if self._static_set.issubset(state) else self._general
 
     def hmax(
         self, state: list[int], costs: list[int], *, stop_at_goal: bool = False
     ) -> tuple[list[float], list[int]]:
         """h^max of every atom from ``state`` and the precondition choice function (the
-        precondition reached last, i.e. one with maximal h^max; -1 if unreachable).
+        precondition popped last from the queue of pairs (h^max, atom), i.e. one with maximal
+        h^max; -1 if unreachable).
 
         ``stop_at_goal`` stops once the goal's value is final: enough for the value, but the
         choice function is then partial, and LM-cut needs it for *every* reachable action (an
         action left out of the justification graph would be missing from its cut, which would
         then not be a landmark and the heuristic not admissible)."""
+        return self._hmax(state, costs, stop_at_goal, self._counting(state))
+
+    def _hmax(
+        self, state: list[int], costs: list[int], stop_at_goal: bool, counting: _Counting
+    ) -> tuple[list[float], list[int]]:
+        # Static atoms stay out of the queue: all start at 0, so the queue would pop them in
+        # ascending order, each before any pair greater than it. They are merged in that order
+        # instead, and an action counts its static preconditions as one, the greatest (the
+        # last of them popped); the pops, the values and the choice function stay the same.
+        shift = self._shift
+        mask = (1 << shift) - 1
         h: list[float] = [_INF] * self.n_atoms
-        done = [False] * self.n_atoms
-        left = self.n_pre[:]
+        left = counting.left[:]
         pcf = [-1] * len(self.pres)
-        needed = self.needed
-        heap = [(0, p) for p in state if needed[p]]
-        heap.append((0, self.true_atom))
-        for _, p in heap:
+        static = counting.static
+        is_static, needed = counting.is_static, self.needed
+        heap = [p for p in state if needed[p] and not is_static[p]]
+        heap.append(self.true_atom)
+        for p in heap:
+            h[p] = 0
+        for p in static:
             h[p] = 0
         heapq.heapify(heap)
-        pre_of, adds = self.pre_of, self.adds
+        pre_of, adds = counting.pre_of, self.adds
         goal = self.goal_atom
-        while heap:
-            d, p = heapq.heappop(heap)
-            if done[p]:
-                continue
-            done[p] = True
-            if p == goal and stop_at_goal:
-                break
+        pop, push = heapq.heappop, heapq.heappush
+        i, n_static = 0, len(static)
+        while heap or i < n_static:
+            if i < n_static and (not heap or static[i] < heap[0]):
+                p, d = static[i], 0
+                i += 1
+            else:
+                x = pop(heap)
+                p, d = x & mask, x >> shift
+                if d != h[p]:  # a stale pair: p was popped at a lower value
+                    continue
+                if p == goal and stop_at_goal:
+                    break
             for j in pre_of[p]:
-                left[j] -= 1
-                if left[j] == 0:
+                k = left[j] - 1
+                left[j] = k
+                if k == 0:
                     pcf[j] = p
                     c = d + costs[j]
                     for q in adds[j]:
                         if c < h[q]:
                             h[q] = c
-                            heapq.heappush(heap, (c, q))
+                            push(heap, (c << shift) | q)
         return h, pcf
 
     def h_max(self, state: list[int]) -> float:
@@ -108,12 +145,15 @@ class RelaxedTask:
         Each cut is a disjunctive action landmark (every plan from ``state`` uses one of its
         actions); with ``cuts`` given they are appended to it, as lists of action indices
         (the artificial goal action left out)."""
+        counting = self._counting(state)
         costs = self.costs[:]
         total = 0
         goal, n = self.goal_atom, self.n_atoms
-        pre_of, adds, achievers = self.pre_of, self.adds, self.achievers
+        adds, achievers = self.adds, self.achievers
+        # the actions whose choice can be p: those p is counted for (ascending, as pre_of)
+        justified = counting.pre_of
         while True:
-            h, pcf = self.hmax(state, costs)
+            h, pcf = self._hmax(state, costs, False, counting)
             if h[goal] == _INF:
                 return _INF
             if h[goal] == 0:
@@ -135,7 +175,7 @@ class RelaxedTask:
             cut: list[int] = []
             while stack:
                 p = stack.pop()
-                for j in pre_of[p]:
+                for j in justified[p]:
                     if pcf[j] != p:
                         continue
                     in_cut = False
@@ -154,3 +194,28 @@ class RelaxedTask:
             total += m
             for j in cut:
                 costs[j] -= m
+
+
+class _Counting:
+    """How h^max counts the preconditions of ``relaxed``'s actions when the atoms
+    ``static`` (ascending) hold in the state: each action counts its other preconditions
+    and, if it has any in ``static``, one more for the greatest of them.  ``pre_of[p]``
+    lists, ascending, the actions ``p`` is counted for."""
+
+    def __init__(self, relaxed: RelaxedTask, static: Sequence[int]):
+        n = relaxed.n_atoms
+        self.static = list(static)
+        self.is_static = [False] * n
+        for p in static:
+            self.is_static[p] = True
+        pre_of: list[list[int]] = [[] for _ in range(n)]
+        self.left: list[int] = []
+        for j, pre in enumerate(relaxed.pres):
+            own = [q for q in pre if not self.is_static[q]]
+            given = [q for q in pre if self.is_static[q]]
+            for q in own:
+                pre_of[q].append(j)
+            if given:
+                pre_of[max(given)].append(j)
+            self.left.append(len(own) + (1 if given else 0))
+        self.pre_of = [tuple(js) for js in pre_of]
