@@ -68,6 +68,30 @@ def test_pair_masks_seeded_by_a_finer_abstraction_are_the_same(fam: GroundFamily
     assert pair_masks(task, seed) == pair_masks(task)
 
 
+@SETTINGS
+@given(fam=families(), data=st.data())
+def test_kept_pair_masks_are_those_of_the_task_asked_about(fam: GroundFamily, data):
+    # tasks that differ in one initial fact, one delete or the seed must not share a fixpoint
+    from dataclasses import replace
+
+    from mega_sat.analysis.pair_reachability import _fixpoint
+
+    task = abstract_task(fam, data.draw(selections(fam.n_updates)), [])
+    variants = [task, replace(task, init=task.init ^ {0})]
+    if task.actions:
+        a = task.actions[0]
+        variants.append(
+            replace(task, actions=(replace(a, delete=a.delete ^ {0}),) + task.actions[1:])
+        )
+    for t in variants + variants:
+        got = pair_masks(t)
+        actions = tuple((a.pre, a.add, a.delete) for a in t.actions)
+        assert got == list(_fixpoint.__wrapped__(len(t.atoms), t.init, actions, None))
+        got.clear()  # the caller's list, not the kept one
+        seed = [0] * len(t.atoms)
+        assert pair_masks(t, seed) == pair_masks(t) != []
+
+
 def test_pair_reachability_sees_what_relaxation_cannot():
     # one token moved between two places: the goal "at both" is relaxed-reachable only
     from mega_sat.ground.family import GroundAction

@@ -11,6 +11,8 @@ a proof there holds for every model they over-approximate).
 
 from __future__ import annotations
 
+import functools
+
 from mega_sat.ground.family import GroundTask
 
 
@@ -27,17 +29,31 @@ def pair_masks(task: GroundTask, seed: list[int] | None = None) -> list[int]:
 
     ``seed``: pairs known to be reachable here, such as the masks of a task this one relaxes
     (fewer preconditions and deletes, more adds and initial facts); the fixpoint reached from
-    them is the same, in fewer rounds."""
+    them is the same, in fewer rounds.
+
+    The loop asks for the same fixpoint again and again (the same abstraction or product for
+    several candidates), so the last few are kept, keyed by everything they depend on."""
     if any(a.negpre for a in task.actions):
         raise ValueError("pair reachability needs a task without negative preconditions")
-    n = len(task.atoms)
-    init = _mask(task.init)
+    actions = tuple((a.pre, a.add, a.delete) for a in task.actions)
+    key_seed = None if seed is None else tuple(seed)
+    return list(_fixpoint(len(task.atoms), task.init, actions, key_seed))
+
+
+@functools.lru_cache(maxsize=32)
+def _fixpoint(
+    n: int,
+    init_facts: frozenset[int],
+    actions: tuple[tuple[frozenset[int], frozenset[int], frozenset[int]], ...],
+    seed: tuple[int, ...] | None,
+) -> tuple[int, ...]:
+    init = _mask(init_facts)
     m = [init if (init >> p) & 1 else 0 for p in range(n)]
     if seed is not None:
         m = [a | b for a, b in zip(m, seed, strict=True)]
     acts = [
-        (sorted(a.pre), _mask(a.pre), sorted(a.add), _mask(a.add), _mask(a.delete))
-        for a in task.actions
+        (sorted(pre), _mask(pre), sorted(add), _mask(add), _mask(delete))
+        for pre, add, delete in actions
     ]
     changed = True
     while changed:
@@ -72,7 +88,7 @@ def pair_masks(task: GroundTask, seed: list[int] | None = None) -> list[int]:
                     low = q_bits & -q_bits
                     m[low.bit_length() - 1] |= 1 << p
                     q_bits ^= low
-    return m
+    return tuple(m)
 
 
 def goal_pair_unreachable(task: GroundTask) -> bool:
