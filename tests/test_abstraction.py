@@ -71,7 +71,8 @@ def test_pair_masks_seeded_by_a_finer_abstraction_are_the_same(fam: GroundFamily
 @SETTINGS
 @given(fam=families(), data=st.data())
 def test_kept_pair_masks_are_those_of_the_task_asked_about(fam: GroundFamily, data):
-    # tasks that differ in one initial fact, one delete or the seed must not share a fixpoint
+    # tasks that differ in one initial fact or one delete must not share a fixpoint, and a
+    # seed does not change it
     from dataclasses import replace
 
     from mega_sat.analysis.pair_reachability import _fixpoint
@@ -86,10 +87,58 @@ def test_kept_pair_masks_are_those_of_the_task_asked_about(fam: GroundFamily, da
     for t in variants + variants:
         got = pair_masks(t)
         actions = tuple((a.pre, a.add, a.delete) for a in t.actions)
-        assert got == list(_fixpoint.__wrapped__(len(t.atoms), t.init, actions, None))
+        assert got == list(_fixpoint(len(t.atoms), t.init, actions, None))
         got.clear()  # the caller's list, not the kept one
         seed = [0] * len(t.atoms)
         assert pair_masks(t, seed) == pair_masks(t) != []
+
+
+def test_kept_pair_masks_stay_within_their_limits(monkeypatch):
+    # the keeping never holds more fixpoints or bits than allowed, and never changes an answer
+    from mega_sat.analysis import pair_reachability as pr
+
+    kept = pr._Kept()
+    monkeypatch.setattr(pr, "_kept", kept)
+    monkeypatch.setattr(pr, "KEEP_FIXPOINTS", 4)  # the bits are the tighter limit
+    monkeypatch.setattr(pr, "KEEP_BITS", 3 * 5 * 5)
+    from mega_sat.ground.family import GroundTask, StripsAction
+
+    def task(n: int, first: int) -> GroundTask:
+        # a chain of n atoms from atom `first`: each action moves the token one step on
+        acts = tuple(
+            StripsAction(
+                i,
+                "move",
+                (str(i),),
+                frozenset({i}),
+                frozenset(),
+                frozenset({i + 1}),
+                frozenset({i}),
+                1,
+            )
+            for i in range(first, n - 1)
+        )
+        atoms = tuple(("at", (f"p{i}",)) for i in range(n))
+        return GroundTask(atoms, acts, frozenset({first}), frozenset())
+
+    small = [task(5, f) for f in range(4)]
+    for t in small[:3]:
+        assert pr.pair_masks(t) == list(pr._fixpoint(5, t.init, _acts(t), None))
+    assert len(kept.masks) == 3 and kept.bits == 75
+    big = task(9, 0)  # 9 * 9 bits are more than allowed: answered, not kept, nothing dropped
+    assert pr.pair_masks(big) == list(pr._fixpoint(9, big.init, _acts(big), None))
+    assert len(kept.masks) == 3 and kept.bits == 75
+    pr.pair_masks(small[0])  # asked again: now the most recent
+    pr.pair_masks(small[3])  # one more: the least recently asked for (small[1]) goes
+    assert [k[1] for k in kept.masks] == [small[i].init for i in (2, 0, 3)]
+    got = pr.pair_masks(small[2], [0] * 5)  # a seed does not change the fixpoint
+    assert got == list(pr._fixpoint(5, small[2].init, _acts(small[2]), None))
+    got.clear()  # the caller's list, not the kept one
+    assert pr.pair_masks(small[2]) != []
+
+
+def _acts(t):
+    return tuple((a.pre, a.add, a.delete) for a in t.actions)
 
 
 def test_pair_reachability_sees_what_relaxation_cannot():

@@ -11,9 +11,46 @@ a proof there holds for every model they over-approximate).
 
 from __future__ import annotations
 
-import functools
+from collections import OrderedDict
 
 from mega_sat.ground.family import GroundTask
+
+KEEP_FIXPOINTS = 32
+"""How many pair fixpoints :func:`pair_masks` keeps (the most recently asked for)."""
+KEEP_BITS = 1 << 27
+"""At most this many mask bits (16 MiB) kept in all: a fixpoint of ``n`` facts is ``n * n``
+bits, so on large tasks fewer are kept, and one larger than this none."""
+
+
+class _Kept:
+    """The fixpoints :func:`pair_masks` keeps, least recently asked for first, within
+    :data:`KEEP_FIXPOINTS` and :data:`KEEP_BITS`."""
+
+    def __init__(self) -> None:
+        self.masks: OrderedDict[tuple, tuple[int, ...]] = OrderedDict()
+        self.bits = 0
+
+    @staticmethod
+    def size(key: tuple) -> int:
+        return key[0] * key[0]
+
+    def get(self, key: tuple) -> tuple[int, ...] | None:
+        got = self.masks.get(key)
+        if got is not None:
+            self.masks.move_to_end(key)
+        return got
+
+    def put(self, key: tuple, masks: tuple[int, ...]) -> None:
+        if self.size(key) > KEEP_BITS:
+            return
+        self.masks[key] = masks
+        self.bits += self.size(key)
+        while len(self.masks) > KEEP_FIXPOINTS or self.bits > KEEP_BITS:
+            old, _ = self.masks.popitem(last=False)
+            self.bits -= self.size(old)
+
+
+_kept = _Kept()
 
 
 def _mask(ids) -> int:
@@ -32,20 +69,25 @@ def pair_masks(task: GroundTask, seed: list[int] | None = None) -> list[int]:
     them is the same, in fewer rounds.
 
     The loop asks for the same fixpoint again and again (the same abstraction or product for
-    several candidates), so the last few are kept, keyed by everything they depend on."""
+    several candidates), so the last few are kept (:data:`KEEP_FIXPOINTS`, :data:`KEEP_BITS`),
+    keyed by everything they depend on; not by the seed, which does not change them."""
     if any(a.negpre for a in task.actions):
         raise ValueError("pair reachability needs a task without negative preconditions")
+    n = len(task.atoms)
     actions = tuple((a.pre, a.add, a.delete) for a in task.actions)
-    key_seed = None if seed is None else tuple(seed)
-    return list(_fixpoint(len(task.atoms), task.init, actions, key_seed))
+    key = (n, task.init, actions)
+    got = _kept.get(key)
+    if got is None:
+        got = _fixpoint(n, task.init, actions, seed)
+        _kept.put(key, got)
+    return list(got)
 
 
-@functools.lru_cache(maxsize=32)
 def _fixpoint(
     n: int,
     init_facts: frozenset[int],
     actions: tuple[tuple[frozenset[int], frozenset[int], frozenset[int]], ...],
-    seed: tuple[int, ...] | None,
+    seed: list[int] | None,
 ) -> tuple[int, ...]:
     init = _mask(init_facts)
     m = [init if (init >> p) & 1 else 0 for p in range(n)]
