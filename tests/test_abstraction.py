@@ -86,8 +86,7 @@ def test_kept_pair_masks_are_those_of_the_task_asked_about(fam: GroundFamily, da
         )
     for t in variants + variants:
         got = pair_masks(t)
-        actions = tuple((a.pre, a.add, a.delete) for a in t.actions)
-        assert got == list(_fixpoint(len(t.atoms), t.init, actions, None))
+        assert got == list(_fixpoint(len(t.atoms), t.init, _acts(t), None))
         got.clear()  # the caller's list, not the kept one
         seed = [0] * len(t.atoms)
         assert pair_masks(t, seed) == pair_masks(t) != []
