@@ -1,7 +1,8 @@
 """The ``pddl`` library's side of reading PDDL: its grammar, its transformers, its errors.
 
 A lark parser for domains and one for problems are built from the library's grammar and kept
-for the process, since building one takes about a tenth of a second.  Each parses a text into a
+for the process, and on disk for the next one (:mod:`mega_sat.pddl.parser_cache`), since
+building one takes about a twentieth of a second.  Each parses a text into a
 tree, and a new instance of the library's transformer turns each tree into a ``pddl`` Domain or
 Problem.  The library's own ``DomainParser`` runs one long-lived transformer inside the parser,
 and a failed parse leaves that transformer's per-file state behind; a tree per file avoids that
@@ -39,8 +40,13 @@ def _parser(kind: str):
     from lark import Lark
     from pddl.parser import GRAMMAR_FILE, PARSERS_DIRECTORY
 
-    return Lark(
-        GRAMMAR_FILE.read_text(), parser="lalr", import_paths=[PARSERS_DIRECTORY], start=kind
+    from mega_sat.pddl.parser_cache import cached_parser
+
+    grammar = GRAMMAR_FILE.read_text()
+    return cached_parser(
+        grammar,
+        kind,
+        lambda: Lark(grammar, parser="lalr", import_paths=[PARSERS_DIRECTORY], start=kind),
     )
 
 
