@@ -3,8 +3,8 @@
 Building the two lark parsers (domain, problem) from the ``pddl`` library's grammar costs
 about 90 ms, a quarter of a small task's whole run; loading a saved one costs about 5 ms.  A
 saved parser is found by a key over everything that shapes it (the grammar text, the start
-symbol, the lark and ``pddl`` versions), so a changed grammar or library never loads a stale
-one.
+symbol, the lark, ``pddl`` and Python versions), so a changed grammar or library never loads
+a stale one.
 
 The directory is ``$MEGA_SAT_CACHE_DIR`` if set (empty: no cache), else
 ``$XDG_CACHE_HOME/mega-sat`` or ``~/.cache/mega-sat``.  Saved parsers are pickles, so the
@@ -19,6 +19,7 @@ from __future__ import annotations
 import hashlib
 import os
 import stat
+import sys
 import tempfile
 from pathlib import Path
 
@@ -39,7 +40,8 @@ def parser_key(grammar: str, start: str) -> str:
     import lark
     import pddl
 
-    parts = (grammar, start, lark.__version__, getattr(pddl, "__version__", ""))
+    python = ".".join(map(str, sys.version_info[:2]))
+    parts = (grammar, start, lark.__version__, getattr(pddl, "__version__", ""), python)
     return hashlib.sha256("\0".join(parts).encode()).hexdigest()[:24]
 
 
