@@ -138,3 +138,11 @@ def test_the_key_covers_the_grammar_and_the_start_symbol():
     assert k == parser_cache.parser_key("grammar", "domain")
     assert k != parser_cache.parser_key("grammar!", "domain")
     assert k != parser_cache.parser_key("grammar", "problem")
+
+
+def test_the_key_covers_the_python_version(monkeypatch):
+    k = parser_cache.parser_key("grammar", "domain")
+    monkeypatch.setattr(parser_cache.sys, "version_info", (3, 99, 0))
+    other = parser_cache.parser_key("grammar", "domain")
+    monkeypatch.undo()
+    assert k != other
