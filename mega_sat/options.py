@@ -321,6 +321,17 @@ class Options:
             "(both cores; POSIX only); false: the two take turns in one process"
         },
     )
+    race_fd_after_work: int = field(
+        default=0,
+        metadata={
+            "doc": "work of the forked OPT race's SAT side (in the referee's search states) "
+            "after which, with neither side done and Fast Downward installed, the race stops "
+            "and FD's astar(lmcut()) answers the call; a point fixed by work, so runs repeat "
+            "(0: never; 50000 takes bench/tasks/blocks-no-deletes from 36 to 6 s, "
+            "bench/README.md)",
+            "zero": True,
+        },
+    )
     joint_pair_proofs: bool = field(
         default=True,
         metadata={

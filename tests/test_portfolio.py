@@ -211,3 +211,92 @@ def test_side_work_counts_vectorised_expansions_at_their_weight():
     assert side[1.0] > 2048  # the search went past its pure-Python start
     assert side[0.1] == pytest.approx(uniform_cost_work(int(side[1.0]), 0.1))
     assert side[0.1] == pytest.approx(2048 + 0.1 * (side[1.0] - 2048))
+
+
+def _fd_or_skip():
+    from mega_sat.planners.fast_downward import fd_available
+
+    if not fd_available() or not hasattr(os, "fork"):
+        pytest.skip("needs Fast Downward (the fd extra) and fork")
+
+
+@settings(max_examples=8, deadline=None)
+@given(fam=families(), data=st.data())
+def test_fast_downward_on_a_ground_family_gives_the_optimum(fam: GroundFamily, data):
+    """The race hands FD the ground model when it has no lifted task (negative
+    preconditions compiled away, FD's names mapped back onto the family's steps)."""
+    _fd_or_skip()
+    planner = NodePlanner(None, fam, "fd")
+    for _ in range(2):
+        sel = data.draw(selections(fam.n_updates))
+        r = planner.optimal(sel)
+        task = fam.specialize(sel)
+        c = dijkstra(task)
+        if c is None:
+            assert r.status == "unsolvable"
+        else:
+            assert r.status == "optimal" and r.cost == c and plan_cost(task, r.plan) == c
+
+
+def _no_deletes_model():
+    """blocks-no-deletes' hard model: its optimum 16 takes SAT and the pure-Python LM-cut
+    search many seconds, Fast Downward about one."""
+    from mega_sat import api
+    from mega_sat.ground.grounding import ground
+
+    task = api.load_task_dir(
+        os.path.join(os.path.dirname(__file__), "..", "bench", "tasks", "blocks-no-deletes")
+    )
+    five = {
+        "remove-has-initial-state-clear c",
+        "remove-has-initial-state-clear g",
+        "add-stack-has-precondition-clear ?y",
+        "add-unstack-has-precondition-on ?x ?y",
+        "add-unstack-has-delete-effect-clear ?x",
+    }
+    sel = frozenset(i for i, u in enumerate(task.delta) if u.name in five)
+    assert len(sel) == 5
+    return task, ground(task), sel
+
+
+def test_a_stuck_race_goes_to_fast_downward_at_a_point_fixed_by_work():
+    _fd_or_skip()
+    task, fam, sel = _no_deletes_model()
+    runs = []
+    for _ in range(2):
+        planner = NodePlanner(task, fam, "portfolio", options=Options(race_fd_after_work=5000))
+        r = planner.optimal(sel)
+        assert (r.status, r.cost, r.planner, r.exact) == ("optimal", 16, "fd", True)
+        assert r.reason.startswith("Fast Downward, after ")
+        assert plan_cost(fam.specialize(sel), r.plan) == 16
+        runs.append((r.plan, r.reason))
+    assert runs[0] == runs[1]  # the same plan, handed over at the same work
+
+
+def test_a_failing_fast_downward_leaves_the_race_to_answer(monkeypatch):
+    _fd_or_skip()
+    from mega_sat import api
+    from mega_sat.errors import PlannerError
+    from mega_sat.ground.grounding import ground
+
+    task = api.load_task_dir(
+        os.path.join(
+            os.path.dirname(__file__), "..", "domains", "rover-martian", "delta", "10", "p3"
+        )
+    )
+    fam = ground(task)
+    sels = [frozenset(range(0, len(task.delta), k)) for k in (1, 2, 3, 5)] + [frozenset()]
+    without = NodePlanner(task, fam, "portfolio", options=Options(race_fd_after_work=0))
+    optima = [without.optimal(sel).cost for sel in sels]
+    calls = []
+
+    def failing(self, sel, task, call):
+        calls.append(sel)
+        raise PlannerError("Fast Downward failed (exit code 1): simulated")
+
+    monkeypatch.setattr(NodePlanner, "_fd", failing)
+    planner = NodePlanner(task, fam, "portfolio", options=Options(race_fd_after_work=1))
+    got = [planner.optimal(sel) for sel in sels]
+    assert calls, "no race was handed to FD: the test checks nothing"
+    assert [r.cost for r in got] == optima
+    assert all(r.exact and r.planner in ("builtin", "sat") for r in got)

@@ -13,13 +13,16 @@ too.  Three planners answer the same question (optimal cost and one optimal plan
   every run gives the same answer; the answer's ``planner`` says which method gave it
   (``builtin`` for either search, its ``reason`` which one).  Past the SAT horizon cap only
   the explicit search can decide, and it runs on alone: it is complete (it exhausts the finite
-  state space of an unsolvable model), so every model gets decided, given time.
+  state space of an unsolvable model), so every model gets decided, given time.  With
+  ``Options.race_fd_after_work`` set (off by default) and Fast Downward installed, a forked
+  race still open after that much SAT work is handed to ``fd``.
 """
 
 from __future__ import annotations
 
 import os
 import time
+from dataclasses import replace
 
 from mega_sat.deadline import NO_DEADLINE, Deadline, TimeLimitReached
 from mega_sat.errors import PlannerError, UsageError
@@ -115,6 +118,7 @@ class NodePlanner:
         self.time_s = 0.0
         # portfolio: the method to try first (the last winner) and its first turn's seconds
         self._first = "builtin"
+        self._has_fd: bool | None = None  # Fast Downward installed (looked up once)
 
     @property
     def oracles(self):
@@ -168,12 +172,19 @@ class NodePlanner:
             if self.options.race_processes and hasattr(os, "fork"):
                 return self._race_forked(sel, task, call, t0)
             return self._race(sel, task, call, t0)
+        r = self._fd(sel, task, call)
+        return answer(r.status, r.plan, r.cost, reason=r.reason)
+
+    def _fd(self, sel: frozenset[int], task: GroundTask, call: Deadline) -> PlanResult:
+        """Fast Downward's optimum of ``human + sel`` (``task``), its plan in the family's
+        steps; raises :class:`PlannerError` when FD fails."""
         from mega_sat.pddl.writer import domain_to_pddl, problem_to_pddl
         from mega_sat.planners.fast_downward import fd_plan
 
-        model = self.task.updated_model(sel)
+        # a planner made for a ground family alone (no lifted task) hands FD the ground model
+        model = self.task.updated_model(sel) if self.task is not None else None
         r = None
-        if not any(s.negpre for s in model.schemas.values()):
+        if model is not None and not any(s.negpre for s in model.schemas.values()):
             try:
                 r = fd_plan(domain_to_pddl(model), problem_to_pddl(model), deadline=call)
             except PlannerError as e:
@@ -186,7 +197,7 @@ class NodePlanner:
             dom, prob, names = ground_strips_pddl(task)
             r = fd_plan(dom, prob, deadline=call)
             if r.status == Status.OPTIMAL and r.plan is not None:
-                return answer(Status.OPTIMAL, tuple(names[s[0]] for s in r.plan), r.cost)
+                return replace(r, plan=tuple(names[s[0]] for s in r.plan))
         if r.status == Status.OPTIMAL and r.plan is not None:
             # FD may print names in another case or order; map back onto the family's steps
             plan = tuple(tuple(x.lower() for x in s) for s in r.plan)
@@ -196,8 +207,8 @@ class NodePlanner:
                     f"Fast Downward returned an action outside the ground family: "
                     f"({' '.join(missing[0])})"
                 )
-            return answer(Status.OPTIMAL, plan, r.cost)
-        return answer(r.status, reason=r.reason)
+            return replace(r, plan=plan)
+        return r
 
     def _race_forked(
         self, sel: frozenset[int], task: GroundTask, call: Deadline, t0: float
@@ -215,7 +226,14 @@ class NodePlanner:
         measure.  Where one side is
         ahead in work and behind on the clock, the referee waits for the other to catch up,
         which costs wall time, never the answer.  Past the horizon cap SAT drops out and the
-        search runs on until ``call``."""
+        search runs on until ``call``.
+
+        With ``race_fd_after_work`` set and Fast Downward installed, a race in which neither
+        side is done once SAT's side has spent that much (in the referee's units) stops there
+        and FD answers the call: its LM-cut search in C++ proves optima that take SAT minutes
+        and the child's pure-Python LM-cut hours.  Both the stopping point and FD's answer
+        follow from work, not the clock, so runs still repeat.  FD's plans lead the loop other
+        ways, which can cost as much as they save, hence off by default (bench/README.md)."""
         from mega_sat.sat.oracles import OracleInterrupted
 
         opts = self.options
@@ -226,15 +244,30 @@ class NodePlanner:
         if start is None:  # a solver that does not count conflicts: no referee possible
             return self._race(sel, task, call, t0)
         child = ForkedSearch(task, lmcut_weight(task, opts))
+        fd_after = (
+            opts.race_fd_after_work if opts.race_fd_after_work and self._fd_installed() else 0
+        )
+        to_fd: list[float] = []  # SAT's work when the race handed the call to FD
+
+        def sat_work() -> float:
+            spent = solving.conflicts() - start + (enc.n_clauses - clauses) * per_clause
+            return rate * spent + solving.side_work - side
 
         def search_wins() -> bool:
-            spent = solving.conflicts() - start + (enc.n_clauses - clauses) * per_clause
-            limit = rate * spent + solving.side_work - side
+            limit = sat_work()
             done, n = child.progress(limit, call)
             return done and n < limit
 
+        def stop_sat() -> bool:
+            if search_wins():
+                return True
+            if fd_after and (work := sat_work()) >= fd_after:
+                to_fd.append(work)
+                return True
+            return False
+
         try:
-            solving.stop_probe = search_wins
+            solving.stop_probe = stop_sat
             r = None
             try:
                 r = orc.opt(sel)
@@ -254,6 +287,15 @@ class NodePlanner:
                 return PlanResult(
                     r.status, r.plan, r.cost, r.exact, "sat", time.perf_counter() - t0, r.reason
                 )
+            if to_fd:
+                try:
+                    fd = self._fd(frozenset(sel), task, call)
+                except PlannerError:
+                    fd = None  # FD failed on this model: the search answers, as without FD
+                if fd is not None and fd.status.decided:
+                    why = f"Fast Downward, after {to_fd[0]:.0f} units of the race"
+                    elapsed = time.perf_counter() - t0
+                    return PlanResult(fd.status, fd.plan, fd.cost, True, "fd", elapsed, why)
             got = child.result(call.remaining())
             if got is None:  # the search died (memory) or ran out of time
                 if call.expired():
@@ -267,6 +309,13 @@ class NodePlanner:
             return PlanResult(status, plan, cost, True, "builtin", elapsed, method)
         finally:
             child.stop()
+
+    def _fd_installed(self) -> bool:
+        if self._has_fd is None:
+            from mega_sat.planners.fast_downward import fd_available
+
+            self._has_fd = fd_available()
+        return self._has_fd
 
     def _race(self, sel: frozenset[int], task: GroundTask, call: Deadline, t0: float) -> PlanResult:
         """The portfolio in one process: the explicit searches and the SAT OPT oracle in turns
@@ -426,6 +475,8 @@ class ForkedSearch:
         import contextlib
         import signal
 
+        if self._counter.closed:
+            return  # stopped already
         if self.pid:
             with contextlib.suppress(ProcessLookupError):
                 os.kill(self.pid, signal.SIGKILL)
