@@ -7,7 +7,7 @@ from __future__ import annotations
 import os
 
 import pytest
-from helpers.sat_families import dijkstra, families, plan_cost, selections
+from helpers.sat_families import assert_optimum, dijkstra, families, plan_cost, selections
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -36,14 +36,9 @@ def test_portfolio_gives_the_optimum(forked: bool, fam: GroundFamily, data):
     for _ in range(3):
         sel = data.draw(selections(fam.n_updates))
         r = planner.optimal(sel)
-        task = fam.specialize(sel)
-        c = dijkstra(task)
         # "portfolio" itself answers only where the goal holds initially (no race needed)
         assert r.exact and (r.planner in ("builtin", "sat") or r.plan == ())
-        if c is None:
-            assert r.status == "unsolvable"
-        else:
-            assert r.status == "optimal" and r.cost == c and plan_cost(task, r.plan) == c
+        assert_optimum(fam.specialize(sel), r.status, r.cost, r.plan)
 
 
 @settings(max_examples=30, deadline=None)
@@ -127,11 +122,7 @@ def test_blind_and_lmcut_by_turns_give_the_optimum(fam: GroundFamily, data):
     status, plan, cost, _, method = ends[0]
     assert ends[0] == ends[1]
     assert method in ("uniform-cost search", "A* with LM-cut")
-    c = dijkstra(task)
-    if c is None:
-        assert status == "unsolvable"
-    else:
-        assert status == "optimal" and cost == c and plan_cost(task, plan) == c
+    assert_optimum(task, status, cost, plan)
 
 
 def test_lmcut_answers_where_blind_search_is_hopeless():
@@ -231,11 +222,7 @@ def test_fast_downward_on_a_ground_family_gives_the_optimum(fam: GroundFamily, d
         sel = data.draw(selections(fam.n_updates))
         r = planner.optimal(sel)
         task = fam.specialize(sel)
-        c = dijkstra(task)
-        if c is None:
-            assert r.status == "unsolvable"
-        else:
-            assert r.status == "optimal" and r.cost == c and plan_cost(task, r.plan) == c
+        assert_optimum(task, r.status, r.cost, r.plan)
 
 
 def _no_deletes_model():

@@ -180,6 +180,16 @@ def plan_cost(task: GroundTask, plan: Sequence[tuple[str, ...]]) -> int | None:
     return sim.cost if sim.valid else None
 
 
+def assert_optimum(task: GroundTask, status, cost, plan) -> None:
+    """An optimal planner's answer on ``task`` agrees with :func:`dijkstra`: unsolvable when
+    it finds no plan, else optimal with its cost and a valid plan of that cost."""
+    c = dijkstra(task)
+    if c is None:
+        assert status == "unsolvable"
+    else:
+        assert status == "optimal" and cost == c and plan_cost(task, plan) == c
+
+
 @st.composite
 def symmetric_families(draw, **kw) -> GroundFamily:
     """A random family doubled over two interchangeable objects ``oa`` and ``ob``: each atom is
