@@ -90,6 +90,9 @@ class OptOracle:
         self.stats = orc.stats
         self._cache: dict[frozenset[int], OptResult] = {}
         self._plans: list[tuple[PlanStep, ...]] = []
+        # the selection, the cheapest plan known and its cost in the latest call, once it has
+        # one: the plan it returns if no cheaper one exists (read after an interrupted call)
+        self.descent: tuple[frozenset[int], tuple[PlanStep, ...], int] | None = None
         # per selection: (cheapest action cost, cost every plan spends above N times it)
         self._extra: dict[frozenset[int], tuple[int, int]] = {}
         self._extra_searched: set[frozenset[int]] = set()
@@ -190,6 +193,7 @@ class OptOracle:
 
     # ------------------------------------------------------------------ OPT
     def _opt(self, sel: frozenset[int], t0: float) -> OptResult:
+        self.descent = None
         orc = self.orc
         task = orc.task(sel)
         enc, solving = orc.opt_enc, orc.solving
@@ -220,6 +224,7 @@ class OptOracle:
         plan, best = self._known_plan(task), None
         if plan is not None:
             plan, best = reduce_plan(task, plan)
+            self.descent = (sel, plan, best)
         if best is None or best > lb_cost:
             got = orc.counting.bound(lits, above=lb_cost)
             solving.check()  # the portfolio's referee may end the call here
@@ -231,6 +236,8 @@ class OptOracle:
                 lb_cost, why_lb = int(got), "meets the operator-counting lower bound"
         if (best is None or best > lb_cost) and self.search_first(task, best is not None):
             plan, best = cheaper(task, self.tighten_extra(sel), plan, best)
+            if plan is not None:
+                self.descent = (sel, plan, best)
             solving.check()
         opts = self.options
         cap = opts.horizon_cap
@@ -354,6 +361,7 @@ class OptOracle:
         min_len, len_by_sat = lb_steps, False
         shortest = len(plan)  # the fewest steps of a plan known to run in this model
         while True:
+            self.descent = (sel, plan, best)
             if best <= lb_cost:
                 return done(Status.OPTIMAL, best, plan, True, why_lb)
             h, exact, reason = self.horizon(sel, best - 1, at_least=len(plan))
