@@ -287,3 +287,25 @@ def test_a_failing_fast_downward_leaves_the_race_to_answer(monkeypatch):
     assert calls, "no race was handed to FD: the test checks nothing"
     assert [r.cost for r in got] == optima
     assert all(r.exact and r.planner in ("builtin", "sat") for r in got)
+
+
+@settings(max_examples=30, deadline=None)
+@given(fam=families(), data=st.data())
+def test_opt_says_when_it_holds_a_plan(fam: GroundFamily, data):
+    """The race hands a call to FD only while ``OptOracle.descent`` says SAT holds a plan of
+    the model: never for a model without one, and the plan it holds at the end is the
+    answer's."""
+    from mega_sat.sat.oracles import SatOracles
+
+    orc = SatOracles(fam)
+    for _ in range(3):
+        sel = frozenset(data.draw(selections(fam.n_updates)))
+        if orc.opt_oracle.cached(sel) is not None:
+            continue
+        r = orc.opt(sel)
+        held = orc.opt_oracle.descent
+        assert held is None or held[0] == sel  # never another model's plan
+        if r.status != "optimal":
+            assert held is None
+        elif held is not None:
+            assert held[2] == r.cost and plan_cost(fam.specialize(sel), held[1]) == r.cost
