@@ -230,8 +230,7 @@ class NodePlanner:
 
         With ``race_fd_after_work`` set and Fast Downward installed, a race in which neither
         side is done once SAT's side has spent that much (in the referee's units), while SAT
-        already holds a plan and only descends to the optimum, stops there and FD answers the
-        call: its LM-cut search in C++ proves optima that take SAT minutes
+        already holds a plan of the model, stops there and FD answers the call: its LM-cut search in C++ proves optima that take SAT minutes
         and the child's pure-Python LM-cut hours.  Both the stopping point and FD's answer
         follow from work, not the clock, so runs still repeat.  FD's plans lead the loop other
         ways, which can cost as much as they save, hence off by default (bench/README.md)."""
@@ -259,17 +258,18 @@ class NodePlanner:
             done, n = child.progress(limit, call)
             return done and n < limit
 
-        def descending() -> bool:
-            """SAT holds a plan of this model and is proving it optimal: FD's strength.  An
-            unsolvable model stays with SAT's side proofs, which FD's search, exhausting
-            every state with LM-cut, does not match (blocksworld Δ30 p2: 10 and 38 s)."""
+        def held():
+            """The plan of this model SAT holds and its cost, if any.  Only then does FD get
+            the call (proving an optimum is its strength): an unsolvable model stays with
+            SAT's side proofs, which FD's search, exhausting every state with LM-cut, does not
+            match (blocksworld Δ30 p2: 10 and 38 s)."""
             reached = orc.opt_oracle.descent
-            return reached is not None and reached[0] == sel
+            return reached[1:] if reached is not None and reached[0] == sel else None
 
         def stop_sat() -> bool:
             if search_wins():
                 return True
-            if fd_after and (work := sat_work()) >= fd_after and descending():
+            if fd_after and (work := sat_work()) >= fd_after and held() is not None:
                 to_fd.append(work)
                 return True
             return False
@@ -297,17 +297,16 @@ class NodePlanner:
                 )
             if to_fd:
                 try:
-                    fd = self._fd(frozenset(sel), task, call)
+                    fd = self._fd(sel, task, call)
                 except PlannerError:
                     fd = None  # FD failed on this model: the search answers, as without FD
                 if fd is not None and fd.status.decided:
                     why = f"Fast Downward, after {to_fd[0]:.0f} units of the race"
-                    plan = fd.plan
-                    reached = orc.opt_oracle.descent
-                    if reached is not None and reached[0] == sel and reached[2] == fd.cost:
+                    plan, kept = fd.plan, held()
+                    if kept is not None and kept[1] == fd.cost:
                         # SAT already holds an optimal plan and lacked only the proof: keep
                         # its plan, the one SAT's own answer would carry
-                        plan, why = reached[1], why + " (proof), SAT's plan"
+                        plan, why = kept[0], why + " (proof), SAT's plan"
                     elapsed = time.perf_counter() - t0
                     return PlanResult(fd.status, plan, fd.cost, True, "fd", elapsed, why)
             got = child.result(call.remaining())
@@ -489,8 +488,6 @@ class ForkedSearch:
         import contextlib
         import signal
 
-        if self._counter.closed:
-            return  # stopped already
         if self.pid:
             with contextlib.suppress(ProcessLookupError):
                 os.kill(self.pid, signal.SIGKILL)
