@@ -10,6 +10,7 @@ the encoding keep only plans ``pi`` with ``pi <=lex sigma(pi)`` (``encodings/seq
 
 from __future__ import annotations
 
+from collections import Counter
 from dataclasses import dataclass
 
 from mega_sat.ground.family import GroundAction, GroundFamily
@@ -51,15 +52,41 @@ def object_swaps(
     )
     atom_index = family.atom_index
     action_index = family.action_index
+    signature = _signatures(family)
     out: list[Swap] = []
     for i, a in enumerate(objects):
         for b in objects[i + 1 :]:
+            if signature[a] != signature[b]:
+                continue  # the swap maps some atom, entry or action outside the family
             swap = _check(family, a, b, atom_index, action_index)
             if swap is not None:
                 out.append(swap)
                 if len(out) >= limit:
                     return out
     return out
+
+
+def _signatures(family: GroundFamily) -> dict[str, Counter]:
+    """Per object, how often it occurs at each argument position of each predicate (in the
+    atoms, and in the initial and goal entries with their guards) and of each action name.
+    Swapping ``a`` and ``b`` moves ``a``'s occurrences to ``b`` at the same places, so a swap
+    that maps the family onto itself needs equal signatures: a check in one pass that spares
+    :func:`_check`'s pass over every atom and action for most pairs."""
+    sig: dict[str, Counter] = {}
+
+    def count(args, key) -> None:
+        for k, x in enumerate(args):
+            sig.setdefault(x, Counter())[(*key, k)] += 1
+
+    for atom in family.atoms:
+        count(atom[1:], ("atom", atom[0]))
+    for part, entries in (("init", family.init), ("goal", family.goal)):
+        for p, g in entries:
+            atom = family.atoms[p]
+            count(atom[1:], (part, atom[0], g))
+    for act in family.actions:
+        count(act.args, ("action", act.name))
+    return sig
 
 
 def _check(family: GroundFamily, a: str, b: str, atom_index, action_index) -> Swap | None:
