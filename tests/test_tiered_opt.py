@@ -136,3 +136,29 @@ def test_a_quick_search_past_the_vector_threshold_imports_numpy_before_the_plann
     assert run(1000) == "vector search imported: False\nsat\n"  # missed below the threshold
     assert run(9000) == "quick_search\n"  # 4095 expansions: the quick tier answers
     assert run(3000, "sat") == "vector search imported: False\nsat\n"  # no race, no child
+
+
+def test_a_model_a_remembered_plan_runs_in_skips_the_pair_check(monkeypatch):
+    """The pair check can only prove a model unsolvable: where a remembered plan runs it is
+    skipped, and a model without a running plan still gets it."""
+    import mega_sat.planners.tiered_opt as tiered_opt
+
+    calls = []
+    real = tiered_opt.goal_pair_unreachable
+    monkeypatch.setattr(
+        tiered_opt, "goal_pair_unreachable", lambda task: calls.append(task) or real(task)
+    )
+
+    def reach(name, exists):
+        return GroundAction(name, (), exists, (), (), ((0, None),), (), (((), 1),))
+
+    # update 0 decides which of two actions reaches the goal
+    fam = GroundFamily(
+        (("g",),), 1, (reach("one", (0, True)), reach("two", (0, False))), (), ((0, None),)
+    )
+    tiers = TieredOpt(fam, NodePlanner(None, fam, "builtin"))
+    tiers.remember((("one",),))
+    assert tiers.optimal(frozenset({0})).cost == 1  # by the remembered plan
+    assert calls == []
+    assert tiers.optimal(frozenset()).cost == 1  # "one" is absent: the pair check runs
+    assert len(calls) == 1
