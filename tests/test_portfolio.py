@@ -316,3 +316,50 @@ def test_opt_says_when_it_holds_a_plan(fam: GroundFamily, data):
             assert held is None
         elif held is not None:
             assert held[2] == r.cost and plan_cost(fam.specialize(sel), held[1]) == r.cost
+
+
+def test_a_race_without_a_plan_goes_to_fast_downward_once_the_greedy_search_finds_one():
+    """SAT holds no plan of the hard model here (it needs about 17 s for one), but the
+    greedy search finds one at once: the race goes to FD at the same point twice."""
+    _fd_or_skip()
+    task, fam, sel = _no_deletes_model()
+    runs = []
+    for _ in range(2):
+        planner = NodePlanner(task, fam, "portfolio", options=Options(race_fd_after_work=5000))
+        r = planner.optimal(sel)
+        assert planner.oracles.opt_oracle.descent is None  # SAT held no plan
+        assert (r.status, r.cost, r.planner, r.exact) == ("optimal", 16, "fd", True)
+        assert r.reason.startswith("Fast Downward, after ") and "SAT's plan" not in r.reason
+        assert plan_cost(fam.specialize(sel), r.plan) == 16  # (the known optimum)
+        runs.append((r.plan, r.reason))
+    assert runs[0] == runs[1]
+
+
+def test_fast_downward_gets_only_races_on_models_with_a_plan(monkeypatch):
+    """With the greedy search finding nothing, FD is handed a race only while SAT holds a
+    plan of that model (FD fails here, so the race answers as without it)."""
+    _fd_or_skip()
+    from mega_sat import api
+    from mega_sat.errors import PlannerError
+    from mega_sat.ground.grounding import ground
+
+    task = api.load_task_dir(
+        os.path.join(
+            os.path.dirname(__file__), "..", "domains", "rover-martian", "delta", "10", "p3"
+        )
+    )
+    fam = ground(task)
+    monkeypatch.setattr("mega_sat.search.greedy.greedy_plan", lambda task, budget: None)
+    handed = []
+
+    def failing(self, sel, task, call):
+        held = self.oracles.opt_oracle.descent
+        handed.append(held is not None and held[0] == sel)
+        raise PlannerError("Fast Downward failed (exit code 1): simulated")
+
+    monkeypatch.setattr(NodePlanner, "_fd", failing)
+    planner = NodePlanner(task, fam, "portfolio", options=Options(race_fd_after_work=1))
+    sels = [frozenset(range(0, len(task.delta), k)) for k in (1, 2, 3, 5)] + [frozenset()]
+    for sel in sels:
+        assert planner.optimal(sel).exact
+    assert handed and all(handed)

@@ -229,9 +229,11 @@ class NodePlanner:
         search runs on until ``call``.
 
         With ``race_fd_after_work`` set and Fast Downward installed, a race in which neither
-        side is done once SAT's side has spent that much (in the referee's units), while SAT
-        already holds a plan of the model, stops there and FD answers the call: its LM-cut search in C++ proves optima that take SAT minutes
-        and the child's pure-Python LM-cut hours.  Both the stopping point and FD's answer
+        side is done once SAT's side has spent that much (in the referee's units), while a
+        plan of the model is in hand (SAT's, or one the greedy search of
+        :mod:`mega_sat.search.greedy` finds), stops there and FD answers the call: its LM-cut
+        search in C++ proves optima that take SAT minutes and the child's pure-Python LM-cut
+        hours.  Both the stopping point and FD's answer
         follow from work, not the clock, so runs still repeat.  FD's plans lead the loop other
         ways, which can cost as much as they save, hence off by default (bench/README.md)."""
         from mega_sat.sat.oracles import OracleInterrupted
@@ -259,17 +261,31 @@ class NodePlanner:
             return done and n < limit
 
         def held():
-            """The plan of this model SAT holds and its cost, if any.  Only then does FD get
-            the call (proving an optimum is its strength): an unsolvable model stays with
-            SAT's side proofs, which FD's search, exhausting every state with LM-cut, does not
-            match (blocksworld Δ30 p2: 10 and 38 s)."""
+            """The plan of this model SAT holds and its cost, if any."""
             reached = orc.opt_oracle.descent
             return reached[1:] if reached is not None and reached[0] == sel else None
+
+        greedy: list[bool] = []  # whether the greedy search found a plan (asked once)
+
+        def solvable() -> bool:
+            """The model has a plan: SAT holds one, or the greedy search finds one within
+            ``race_fd_greedy_evaluations`` (deterministic, so the hand-over is too).  Only
+            then does FD get the call (proving an optimum is its strength): an unsolvable
+            model stays with SAT's side proofs, which FD's search, exhausting every state
+            with LM-cut, does not match (blocksworld Δ30 p2: 10 and 38 s)."""
+            if held() is not None:
+                return True
+            if not greedy:
+                from mega_sat.search.greedy import greedy_plan
+
+                budget = opts.race_fd_greedy_evaluations
+                greedy.append(budget > 0 and greedy_plan(task, budget) is not None)
+            return greedy[0]
 
         def stop_sat() -> bool:
             if search_wins():
                 return True
-            if fd_after and (work := sat_work()) >= fd_after and held() is not None:
+            if fd_after and (work := sat_work()) >= fd_after and solvable():
                 to_fd.append(work)
                 return True
             return False
