@@ -111,3 +111,16 @@ def test_blocksworld_landmarks_decide_a_frontier_otherwise_out_of_reach():
     assert fr.stats["explanation_landmarks"] == 5
     for p in fr.points:
         assert {0, 5, 7, 8, 10} <= p.selection
+
+
+@SETTINGS
+@given(fam=families())
+def test_no_landmarks_where_a_robot_plan_runs_in_the_human_model(fam: GroundFamily):
+    """The loop skips the landmark proofs when the robot's plan runs in the human model (a
+    joint plan of E = {}): they would find none."""
+    from mega_sat.ground.simulate import ground_plan_cost
+    from mega_sat.search.astar import astar
+
+    r = astar(fam.specialize(fam.robot_selection))
+    if r.plan is not None and ground_plan_cost(fam.specialize(()), r.plan) is not None:
+        assert JointPairs(fam).landmarks() == frozenset()

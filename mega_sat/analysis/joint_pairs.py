@@ -18,6 +18,8 @@ the human's ``(clear a)`` when only actions both models agree on could make both
 
 from __future__ import annotations
 
+from functools import cached_property
+
 from mega_sat.analysis.abstraction import abstract_task
 from mega_sat.analysis.pair_reachability import goal_pairs_reached, pair_masks
 from mega_sat.deadline import NO_DEADLINE, Deadline
@@ -51,12 +53,16 @@ def joint_product(robot: GroundTask, human: GroundTask) -> GroundTask:
 
 
 class JointPairs:
-    """h^2 proofs of "no joint plan" for one family; the robot copy is built once."""
+    """h^2 proofs of "no joint plan" for one family; the robot copy is built once, when first
+    needed."""
 
     def __init__(self, family: GroundFamily):
         self.family = family
-        every = family.robot_selection
-        self._robot = abstract_task(family, every, every)
+
+    @cached_property
+    def _robot(self) -> GroundTask:
+        every = self.family.robot_selection
+        return abstract_task(self.family, every, every)
 
     def product(self, selection: frozenset[int], fixed: frozenset[int]) -> GroundTask:
         return joint_product(self._robot, abstract_task(self.family, selection, fixed))

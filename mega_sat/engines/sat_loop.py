@@ -30,6 +30,7 @@ from mega_sat.engines.hitting_set import make_hitting_set
 from mega_sat.engines.progress import Progress, lower_bound_note
 from mega_sat.engines.support import causal_support, exclusion_clause, unsolvable_core
 from mega_sat.ground.family import GroundFamily
+from mega_sat.ground.simulate import ground_plan_cost
 from mega_sat.model.task import TwoModelTask
 from mega_sat.options import DEFAULT, Options
 from mega_sat.pddl.update_costs import explanation_cost
@@ -295,11 +296,16 @@ def sat_frontier(
     all_updates = range(len(task.delta))
     restricting = orc.restricting
     progress.stats = stats
+
+    def runs_in(model, plan) -> bool:
+        return plan is not None and ground_plan_cost(model, plan) is not None
+
     pairs = JointPairs(family) if options.joint_pair_proofs else None
     inv_cores: InvariantCores | None = None  # built at the first IC3 invariant
     try:
-        if pairs is not None:
-            # updates every solution needs, proven once: each a unit clause
+        # updates every solution needs, proven once: each a unit clause.  A robot plan that
+        # runs in the human model is a joint plan of E = {}: then there are none to prove.
+        if pairs is not None and not runs_in(family.specialize(()), robot.plan):
             for i in sorted(pairs.landmarks(deadline)):
                 stats["explanation_landmarks"] += 1
                 _learn(hs, ((i, True),), stats)
