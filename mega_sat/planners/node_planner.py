@@ -233,9 +233,9 @@ class NodePlanner:
         plan of the model is in hand (SAT's, or one the greedy search of
         :mod:`mega_sat.search.greedy` finds), stops there and FD answers the call: its LM-cut
         search in C++ proves optima that take SAT minutes and the child's pure-Python LM-cut
-        hours.  Both the stopping point and FD's answer
-        follow from work, not the clock, so runs still repeat.  FD's plans lead the loop other
-        ways, which can cost as much as they save, hence off by default (bench/README.md)."""
+        hours.  Both the stopping point and FD's answer follow from work, not the clock, so
+        runs still repeat.  FD's plans lead the loop other ways, which can cost as much as
+        they save, hence off by default (bench/README.md)."""
         from mega_sat.sat.oracles import OracleInterrupted
 
         opts = self.options
