@@ -96,3 +96,11 @@ def test_a_deleted_atom_is_gone_from_the_successor():
         ((2, None),),
     )
     assert greedy_plan(fam.specialize(frozenset()), 100) is None
+
+
+def test_an_expired_deadline_ends_the_search():
+    from mega_sat.deadline import Deadline
+
+    task = _chain(6).specialize(frozenset())
+    assert greedy_plan(task, 100, Deadline.after(1, elapsed=2)) is None  # expired
+    assert greedy_plan(task, 100, Deadline.after(60)) is not None

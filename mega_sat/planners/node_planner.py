@@ -279,7 +279,7 @@ class NodePlanner:
                 from mega_sat.search.greedy import greedy_plan
 
                 budget = opts.race_fd_greedy_evaluations
-                greedy.append(budget > 0 and greedy_plan(task, budget) is not None)
+                greedy.append(budget > 0 and greedy_plan(task, budget, call) is not None)
             return greedy[0]
 
         def stop_sat() -> bool:

@@ -12,6 +12,7 @@ from __future__ import annotations
 import heapq
 from collections.abc import Callable, Iterable
 
+from mega_sat.deadline import NO_DEADLINE, Deadline
 from mega_sat.ground.family import GroundTask, StripsAction
 
 _INF = float("inf")
@@ -66,10 +67,14 @@ def additive_heuristic(task: GroundTask) -> Callable[[Iterable[int]], float]:
     return h
 
 
-def greedy_plan(task: GroundTask, evaluations: int) -> tuple[StripsAction, ...] | None:
+def greedy_plan(
+    task: GroundTask, evaluations: int, deadline: Deadline = NO_DEADLINE
+) -> tuple[StripsAction, ...] | None:
     """A plan of ``task`` found by greedy best-first search on h_add within ``evaluations``
     heuristic evaluations, or ``None`` (no plan found: proves nothing).  Ties go to the
-    state generated first, so every run returns the same plan."""
+    state generated first, so every run returns the same plan.  An evaluation costs a pass
+    over every action, so on a large task the budget can take long: ``deadline`` also ends
+    the search (checked once per expansion)."""
     init = frozenset(task.init)
     goal = task.goal
     h = additive_heuristic(task)
@@ -79,7 +84,7 @@ def greedy_plan(task: GroundTask, evaluations: int) -> tuple[StripsAction, ...] 
     parent: dict[frozenset[int], tuple[frozenset[int], StripsAction] | None] = {init: None}
     queue = [(h0, 0, init)]
     made = 1
-    while queue and made < evaluations:
+    while queue and made < evaluations and not deadline.expired():
         _, _, s = heapq.heappop(queue)
         if goal <= s:
             plan = []
