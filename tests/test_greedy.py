@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 
 from mega_sat.analysis.relaxation import RelaxedTask
 from mega_sat.ground.family import GroundAction, GroundFamily
-from mega_sat.search.greedy import additive_heuristic, greedy_plan
+from mega_sat.search.greedy import greedy_plan
 
 _INF = float("inf")
 
@@ -35,7 +35,7 @@ def test_a_plan_wherever_brute_force_finds_one(fam: GroundFamily, data):
 @given(fam=families(max_atoms=5, max_actions=7), data=st.data())
 def test_h_add_is_zero_on_goals_and_infinite_only_without_a_relaxed_plan(fam, data):
     task = fam.specialize(data.draw(selections(fam.n_updates)))
-    h = additive_heuristic(task)
+    h = RelaxedTask(task).h_add
     state = sorted(data.draw(st.sets(st.integers(0, len(task.atoms) - 1))))
     got = h(state)
     if task.goal <= set(state):
@@ -80,7 +80,7 @@ def test_h_add_sums_the_goal_atoms_costs():
         ((0, None),),
         ((1, None), (2, None), (3, None)),
     )
-    h = additive_heuristic(fam.specialize(frozenset()))
+    h = RelaxedTask(fam.specialize(frozenset())).h_add
     assert h([0]) == 1 + 1 + 3  # g2: c's cost plus the sum of its preconditions' costs
     assert h([0, 1]) == 0 + 1 + 2
 

@@ -8,7 +8,7 @@ same :class:`RelaxedTask`.
 from __future__ import annotations
 
 import heapq
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 
 from mega_sat.ground.family import GroundTask
 
@@ -137,6 +137,39 @@ class RelaxedTask:
 
     def h_max(self, state: list[int]) -> float:
         return self.hmax(state, self.costs, stop_at_goal=True)[0][self.goal_atom]
+
+    def h_add(self, state: Iterable[int]) -> float:
+        """h_add of the goal from ``state``: as h^max, but an action's precondition costs the
+        sum of its atoms' values, so the goal costs the sum over the goal atoms (infinite when
+        one is unreachable).  Not admissible: a guide for greedy search
+        (:mod:`mega_sat.search.greedy`)."""
+        shift = self._shift
+        mask = (1 << shift) - 1
+        h: list[float] = [_INF] * self.n_atoms
+        counting = self._general
+        left, pre_of = counting.left[:], counting.pre_of
+        spent = [0] * len(self.pres)
+        heap = [p for p in state if self.needed[p]]
+        heap.append(self.true_atom)
+        for p in heap:
+            h[p] = 0
+        heapq.heapify(heap)
+        adds, costs = self.adds, self.costs
+        while heap:
+            x = heapq.heappop(heap)
+            p, d = x & mask, x >> shift
+            if d != h[p]:  # a stale pair: p was popped at a lower value
+                continue
+            for j in pre_of[p]:
+                spent[j] += d
+                left[j] -= 1
+                if left[j] == 0:
+                    c = spent[j] + costs[j]
+                    for q in adds[j]:
+                        if c < h[q]:
+                            h[q] = c
+                            heapq.heappush(heap, (c << shift) | q)
+        return h[self.goal_atom]
 
     def lmcut(self, state: list[int], cuts: list[list[int]] | None = None) -> float:
         """LM-cut: repeatedly find a cut between the initial atoms and the zero-cost goal zone

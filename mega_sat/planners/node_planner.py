@@ -15,7 +15,8 @@ too.  Three planners answer the same question (optimal cost and one optimal plan
   the explicit search can decide, and it runs on alone: it is complete (it exhausts the finite
   state space of an unsolvable model), so every model gets decided, given time.  With
   ``Options.race_fd_after_work`` set (off by default) and Fast Downward installed, a forked
-  race still open after that much SAT work, with SAT holding a plan, is handed to ``fd``.
+  race still open after that much SAT work, with a plan of the model in hand (SAT's, or a
+  greedy search's), is handed to ``fd``.
 """
 
 from __future__ import annotations

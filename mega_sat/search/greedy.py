@@ -1,4 +1,5 @@
-"""Greedy best-first search with the additive heuristic: any plan, fast, within a budget.
+"""Greedy best-first search with the additive heuristic (:meth:`RelaxedTask.h_add`): any
+plan, fast, within a budget.
 
 Its plans are not optimal and an exhausted budget proves nothing; it only answers "this
 model has a plan" cheaply where one is easy to find.  The OPT race uses that as the sign
@@ -10,61 +11,12 @@ solvable models fast but exhausts every state of an unsolvable one
 from __future__ import annotations
 
 import heapq
-from collections.abc import Callable, Iterable
 
+from mega_sat.analysis.relaxation import RelaxedTask
 from mega_sat.deadline import NO_DEADLINE, Deadline
 from mega_sat.ground.family import GroundTask, StripsAction
 
 _INF = float("inf")
-
-
-def additive_heuristic(task: GroundTask) -> Callable[[Iterable[int]], float]:
-    """h_add of ``task``: the sum over the goal atoms of their cheapest relaxed cost, where an
-    action's precondition costs the sum of its atoms' costs (negative preconditions and
-    deletes ignored); infinite when the relaxation cannot reach some goal atom."""
-    n = len(task.atoms)
-    acts = task.actions
-    pre = [tuple(a.pre) for a in acts]
-    adds = [tuple(a.add) for a in acts]
-    cost = [a.cost for a in acts]
-    needs: list[list[int]] = [[] for _ in range(n)]
-    for j, ps in enumerate(pre):
-        for p in ps:
-            needs[p].append(j)
-    free = [j for j, ps in enumerate(pre) if not ps]
-    goal = tuple(task.goal)
-
-    def h(state: Iterable[int]) -> float:
-        dist = [_INF] * n
-        left = [len(ps) for ps in pre]
-        spent = [0.0] * len(acts)
-        queue: list[tuple[float, int]] = []
-
-        def fire(j: int) -> None:
-            c = spent[j] + cost[j]
-            for q in adds[j]:
-                if c < dist[q]:
-                    dist[q] = c
-                    heapq.heappush(queue, (c, q))
-
-        for p in state:
-            dist[p] = 0
-            queue.append((0, p))
-        heapq.heapify(queue)
-        for j in free:
-            fire(j)
-        while queue:
-            d, p = heapq.heappop(queue)
-            if d > dist[p]:
-                continue
-            for j in needs[p]:
-                left[j] -= 1
-                spent[j] += d
-                if left[j] == 0:
-                    fire(j)
-        return sum(dist[g] for g in goal)
-
-    return h
 
 
 def greedy_plan(
@@ -77,7 +29,7 @@ def greedy_plan(
     the search (checked once per expansion)."""
     init = frozenset(task.init)
     goal = task.goal
-    h = additive_heuristic(task)
+    h = RelaxedTask(task).h_add
     h0 = h(init)
     if h0 == _INF:
         return None
