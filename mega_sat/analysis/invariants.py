@@ -62,13 +62,16 @@ def family_invariants(
     fixed: Iterable[int] = (),
     *,
     task: GroundTask | None = None,
+    seed: list[int] | None = None,
 ) -> Invariants:
     """Invariants of every ``human + E'`` with ``E'`` agreeing with ``selection`` on ``fixed``
-    (default: every model of the family); ``task``: that abstraction, if already built."""
+    (default: every model of the family); ``task``: that abstraction, if already built;
+    ``seed``: pair masks of a task it relaxes (:func:`pair_masks`), to reach the same
+    fixpoint in fewer rounds."""
     if task is None:
         task = abstract_task(family, frozenset(selection), fixed)
     n = len(family.atoms)
-    masks = pair_masks(task)
+    masks = pair_masks(task, seed)
     layer = _unit_layers(task)
     # atoms whose value can never change need no mutex clauses: frame axioms carry them
     changing = [False] * n
@@ -185,13 +188,22 @@ def guarded_mutexes(
     # absent, an action present) gives the same task, hence the same mutexes as ``base``:
     # one of the two values on every update of barman-bar/p3 and rover-martian/p3
     free = abstract_task(family, frozenset(), ())
-    for i in range(family.n_updates):
+    # fixing one update relaxes the model that fixes every update to the same value (each
+    # other update becomes free), so that model's pairs start the fixpoint: no update
+    # selected for the value False, every update selected (the robot model) for True
+    everything = range(family.n_updates)
+    seeds: dict[bool, list[int]] = {}
+    for i in everything:
         for v in (False, True):
             sel = frozenset([i]) if v else frozenset()
             task = abstract_task(family, sel, [i])
             if task == free:
                 continue
-            inv = family_invariants(family, sel, [i], task=task)
+            if v not in seeds:
+                seeds[v] = pair_masks(
+                    abstract_task(family, frozenset(everything) if v else frozenset(), everything)
+                )
+            inv = family_invariants(family, sel, [i], task=task, seed=seeds[v])
             guard = i + 1 if v else -(i + 1)
             out.extend((guard, l1, l2) for l1, l2 in inv.binary if (l1, l2) not in have)
     return tuple(out)
