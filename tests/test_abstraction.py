@@ -4,8 +4,9 @@ checked in tests/test_tiered_opt.py."""
 
 from __future__ import annotations
 
+from helpers.fuzzing import oracle_settings
 from helpers.sat_families import agreeing, dijkstra, families, joint_brute, plan_cost, selections
-from hypothesis import HealthCheck, given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 
 from mega_sat.analysis.abstraction import abstract_task
@@ -14,9 +15,7 @@ from mega_sat.ground.family import GroundFamily
 from mega_sat.search.astar import astar
 from mega_sat.search.joint import JointSearcher, search_joint
 
-SETTINGS = settings(
-    max_examples=150, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck)
-)
+SETTINGS = oracle_settings(150)
 
 
 def _fixed_sets(n: int):

@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import json
 
+from helpers.fuzzing import oracle_settings
 from helpers.sat_families import families, selections
-from hypothesis import HealthCheck, given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 from pysat.examples.rc2 import RC2
 from pysat.formula import CNF, WCNF
@@ -15,9 +16,7 @@ from mega_sat.ground.family import GroundFamily
 from mega_sat.sat.cnf_export import export, export_joint, export_opt
 from mega_sat.sat.oracles import SatOracles
 
-SETTINGS = settings(
-    max_examples=60, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck)
-)
+SETTINGS = oracle_settings(60)
 
 
 def sat(path) -> bool:

@@ -23,8 +23,9 @@ import time
 from dataclasses import replace
 
 import pytest
+from helpers.fuzzing import oracle_settings
 from helpers.sat_families import check_bounded_answer, dijkstra, families, plan_cost, selections
-from hypothesis import HealthCheck, given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 from pysat.solvers import Solver
 from test_sat_encoding import cheapest_within
@@ -33,9 +34,7 @@ from mega_sat.ground.family import GroundAction, GroundFamily
 from mega_sat.sat.encoding import HUMAN, ROBOT, UNARY_MAX_UNITS, FamilyEncoding
 from mega_sat.sat.oracles import SatOracles
 
-SETTINGS = settings(
-    max_examples=60, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck)
-)
+SETTINGS = oracle_settings(60)
 LARGE = [1000, 10**5, 10**12]
 GIB = 1 << 30
 

@@ -11,10 +11,11 @@ from fractions import Fraction
 
 import pytest
 from helpers.bruteforce import brute_force_frontier, brute_force_mce
+from helpers.fuzzing import oracle_settings
 from helpers.minitasks import usar_like
 from helpers.randomtasks import two_model_tasks
 from helpers.tradeoff_tasks import tradeoff_tasks
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, given
 from hypothesis import strategies as st
 
 from mega_sat.engines.astar import astar_frontier, astar_solve
@@ -27,11 +28,8 @@ from mega_sat.options import Options
 from mega_sat.results import choose
 from mega_sat.sat.oracles import SatOracles
 
-SETTINGS = settings(
-    max_examples=150,
-    deadline=None,
-    derandomize=True,
-    suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much],
+SETTINGS = oracle_settings(
+    150, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much]
 )
 
 
@@ -270,7 +268,7 @@ def test_time_limit_bounds_the_explicit_opt_planner(planner):
         assert any("time limit 3.0s reached" in n for n in fr.notes)
 
 
-@settings(SETTINGS, max_examples=80)
+@oracle_settings(80, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
 @given(st.one_of(two_model_tasks(max_delta=5, allow_zero_cost=True), tradeoff_tasks()))
 def test_default_engine_settings_follow_the_costs_and_stay_exact(task):
     """MegaSolver's defaults: the OPT portfolio (search and SAT in turns) and SAT JOINT, except

@@ -5,8 +5,9 @@ relaxation says no plan exists."""
 
 from __future__ import annotations
 
+from helpers.fuzzing import oracle_settings
 from helpers.sat_families import dijkstra, families, plan_cost, selections
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 
 from mega_sat.analysis.relaxation import RelaxedTask
@@ -16,7 +17,7 @@ from mega_sat.search.greedy import greedy_plan
 _INF = float("inf")
 
 
-@settings(max_examples=150, deadline=None, derandomize=True)
+@oracle_settings(150, suppress_health_check=())
 @given(fam=families(max_atoms=5, max_actions=7), data=st.data())
 def test_a_plan_wherever_brute_force_finds_one(fam: GroundFamily, data):
     task = fam.specialize(data.draw(selections(fam.n_updates)))
@@ -31,7 +32,7 @@ def test_a_plan_wherever_brute_force_finds_one(fam: GroundFamily, data):
         assert cost is not None and cost >= best
 
 
-@settings(max_examples=150, deadline=None, derandomize=True)
+@oracle_settings(150, suppress_health_check=())
 @given(fam=families(max_atoms=5, max_actions=7), data=st.data())
 def test_h_add_is_zero_on_goals_and_infinite_only_without_a_relaxed_plan(fam, data):
     task = fam.specialize(data.draw(selections(fam.n_updates)))

@@ -6,8 +6,9 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from helpers.fuzzing import oracle_settings
 from helpers.sat_families import agreeing, all_selections, dijkstra, families, selections
-from hypothesis import HealthCheck, given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 
 from mega_sat.ground.family import GroundAction, GroundFamily
@@ -17,9 +18,7 @@ from mega_sat.sat.oracles import SatOracles
 from mega_sat.search.pdr import Pdr
 from mega_sat.status import Status
 
-SETTINGS = settings(
-    max_examples=200, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck)
-)
+SETTINGS = oracle_settings(200)
 ROOT = Path(__file__).resolve().parent.parent
 
 
@@ -72,9 +71,7 @@ def test_ic3_alongside_sat_is_exact(fam: GroundFamily, data):
 
 
 @pytest.mark.parametrize("ic3_share", [25, 10**6])
-@settings(
-    max_examples=300, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck)
-)
+@oracle_settings(300)
 @given(fam=families(max_atoms=6, max_actions=8))
 def test_side_proofs_in_turns_are_exact(ic3_share: int, fam: GroundFamily):
     """Once no plan fits one step, reachability and IC3 take turns from one state on (the

@@ -4,17 +4,16 @@
 from __future__ import annotations
 
 import pytest
+from helpers.fuzzing import oracle_settings
 from helpers.sat_families import all_selections, families, plan_cost, selections
-from hypothesis import HealthCheck, given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 
 from mega_sat.analysis.invariants import family_invariants
 from mega_sat.ground.family import GroundFamily, GroundTask
 from mega_sat.search.plan_reduction import reduce_plan
 
-SETTINGS = settings(
-    max_examples=150, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck)
-)
+SETTINGS = oracle_settings(150)
 
 
 def _layered_states(task: GroundTask, depth: int) -> list[set[frozenset[int]]]:

@@ -6,9 +6,10 @@ from __future__ import annotations
 from pathlib import Path
 
 from helpers.bruteforce import brute_force_frontier
+from helpers.fuzzing import oracle_settings
 from helpers.randomtasks import two_model_tasks
 from helpers.sat_families import agreeing, families, selections
-from hypothesis import HealthCheck, given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 
 from mega_sat.analysis.joint_pairs import JointPairs
@@ -16,9 +17,7 @@ from mega_sat.engines.sat_loop import sat_frontier
 from mega_sat.ground.family import GroundFamily
 from mega_sat.ground.grounding import ground
 
-SETTINGS = settings(
-    max_examples=200, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck)
-)
+SETTINGS = oracle_settings(200)
 ROOT = Path(__file__).parent.parent
 
 
@@ -83,7 +82,7 @@ def test_landmarks_are_the_updates_whose_one_trial_proves(fam: GroundFamily):
     assert pairs.landmarks() == one_by_one
 
 
-@settings(max_examples=40, deadline=None, derandomize=True)
+@oracle_settings(40, suppress_health_check=())
 @given(two_model_tasks(max_delta=5))
 def test_landmarks_are_in_every_frontier_explanation(task):
     fam = ground(task)

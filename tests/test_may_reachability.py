@@ -4,8 +4,9 @@ ground truth on random families (tests/helpers/sat_families.py)."""
 from __future__ import annotations
 
 import pytest
+from helpers.fuzzing import oracle_settings
 from helpers.sat_families import _succ, agreeing, dijkstra, families, selections
-from hypothesis import HealthCheck, given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 
 from mega_sat.analysis.abstraction import abstract_task
@@ -15,9 +16,7 @@ from mega_sat.ground.family import GroundFamily
 from mega_sat.search.may_reachability import MayReachability
 from mega_sat.status import Status
 
-SETTINGS = settings(
-    max_examples=200, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck)
-)
+SETTINGS = oracle_settings(200)
 
 
 def _reachable(fam: GroundFamily, sel: frozenset[int]) -> set[frozenset[int]]:

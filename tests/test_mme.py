@@ -14,10 +14,11 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner
 from helpers.bruteforce import _Space, brute_force_mme
+from helpers.fuzzing import oracle_settings
 from helpers.minitasks import _nav_model, hidden_trap, usar_like
 from helpers.randomtasks import two_model_tasks
 from helpers.tradeoff_tasks import tradeoff_tasks
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, given
 from hypothesis import strategies as st
 
 from mega_sat.api import MegaSolver, load_task_dir
@@ -35,11 +36,8 @@ USAR = ROOT / "domains" / "usar-fetch" / "p1"
 TRAP = ROOT / "docs" / "examples" / "usar-trap"
 EXPLICABLE = ROOT / "docs" / "examples" / "usar-p1-explicable.plan"
 
-SETTINGS = settings(
-    max_examples=80,
-    deadline=None,
-    derandomize=True,
-    suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much],
+SETTINGS = oracle_settings(
+    80, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much]
 )
 
 

@@ -12,12 +12,13 @@ import time
 
 import pytest
 from helpers.bruteforce import brute_force_frontier
+from helpers.fuzzing import oracle_settings
 from helpers.minitasks import usar_like
 from helpers.multi_bruteforce import multi_brute_force_frontier
 from helpers.multi_randomtasks import multi_human_tasks, multi_tradeoff_tasks
 from helpers.randomtasks import two_model_tasks
 from helpers.tradeoff_tasks import tradeoff_tasks
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, given
 from hypothesis import strategies as st
 
 from mega_sat.deadline import Deadline
@@ -34,11 +35,8 @@ from mega_sat.model.task import TwoModelTask
 from mega_sat.pddl.multi_task import MultiHumanTask
 from mega_sat.results import choose
 
-SETTINGS = settings(
-    max_examples=120,
-    deadline=None,
-    derandomize=True,
-    suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much],
+SETTINGS = oracle_settings(
+    120, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much]
 )
 
 TASKS = st.one_of(multi_human_tasks(), multi_tradeoff_tasks())
@@ -113,7 +111,7 @@ def test_update_costs_equal_brute_force(task, data):
     assert all(p.weighted_cost == sum(costs[i] for i in p.selection) for p in fr.points)
 
 
-@settings(max_examples=60, deadline=None, derandomize=True)
+@oracle_settings(60, suppress_health_check=())
 @given(st.one_of(two_model_tasks(max_delta=5), tradeoff_tasks()))
 def test_one_human_twice_is_one_human(task):
     # the same human model twice is one human model: both oracles and both engines agree
@@ -271,7 +269,7 @@ def test_an_unproven_optimum_clears_exact(monkeypatch):
     assert any("OPT not proven optimal for human model 2" in n for n in fr.notes)
 
 
-@settings(max_examples=80, deadline=None, derandomize=True)
+@oracle_settings(80, suppress_health_check=())
 @given(multi_tradeoff_tasks(), st.sampled_from([None, "builtin"]))
 def test_route_maps_with_trade_offs_equal_brute_force(task, planner):
     # the commanders' maps on their own: these are the tasks with several frontier points

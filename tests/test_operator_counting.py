@@ -8,8 +8,9 @@ import math
 from pathlib import Path
 
 import pytest
+from helpers.fuzzing import oracle_settings
 from helpers.sat_families import agreeing, dijkstra, families, selections
-from hypothesis import HealthCheck, given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 
 from mega_sat.analysis.abstraction import abstract_task
@@ -23,9 +24,7 @@ from mega_sat.ground.grounding import ground
 from mega_sat.pddl.loading import load_task, resolve_task_dir
 from mega_sat.search.astar import astar
 
-SETTINGS = settings(
-    max_examples=150, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck)
-)
+SETTINGS = oracle_settings(150)
 DOMAINS = Path(__file__).resolve().parent.parent / "domains"
 
 

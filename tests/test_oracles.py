@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import pytest
+from helpers.fuzzing import oracle_settings
 from helpers.sat_families import (
     agreeing,
     dijkstra,
@@ -12,7 +13,7 @@ from helpers.sat_families import (
     selections,
     symmetric_families,
 )
-from hypothesis import HealthCheck, given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 
 from mega_sat.deadline import Deadline
@@ -21,9 +22,7 @@ from mega_sat.options import Options
 from mega_sat.sat.oracles import JointResult, OptResult, SatOracles
 from mega_sat.status import Status
 
-SETTINGS = settings(
-    max_examples=150, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck)
-)
+SETTINGS = oracle_settings(150)
 
 
 def check_opt(fam: GroundFamily, orc: SatOracles, sel: frozenset[int]) -> OptResult:

@@ -6,8 +6,9 @@ from __future__ import annotations
 import itertools
 from pathlib import Path
 
+from helpers.fuzzing import oracle_settings
 from helpers.sat_families import all_selections, dijkstra, families, selections
-from hypothesis import HealthCheck, given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 
 from mega_sat.ground.family import GroundFamily
@@ -16,9 +17,7 @@ from mega_sat.sat.oracles import SatOracles
 from mega_sat.search.pdr import Pdr
 from mega_sat.status import Status
 
-SETTINGS = settings(
-    max_examples=200, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck)
-)
+SETTINGS = oracle_settings(200)
 ROOT = Path(__file__).resolve().parent.parent
 
 

@@ -4,8 +4,9 @@ the may-reachability tests (tests/test_may_reachability.py) check the projection
 
 from __future__ import annotations
 
+from helpers.fuzzing import oracle_settings
 from helpers.sat_families import dijkstra, families, selections
-from hypothesis import HealthCheck, given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 from test_vector_search import strips_tasks
 
@@ -16,9 +17,7 @@ from mega_sat.search.astar import astar
 from mega_sat.search.vector_search import goal_reachable
 from mega_sat.status import Status
 
-SETTINGS = settings(
-    max_examples=300, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck)
-)
+SETTINGS = oracle_settings(300)
 
 
 @SETTINGS

@@ -7,17 +7,16 @@ import heapq
 import itertools
 
 import pytest
+from helpers.fuzzing import oracle_settings
 from helpers.sat_families import check_bounded_answer, families, plan_cost, selections
-from hypothesis import HealthCheck, given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 from pysat.solvers import Solver
 
 from mega_sat.ground.family import GroundFamily, GroundTask
 from mega_sat.sat.encoding import HUMAN, ROBOT, FamilyEncoding
 
-SETTINGS = settings(
-    max_examples=120, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck)
-)
+SETTINGS = oracle_settings(120)
 
 
 def cheapest_within(task: GroundTask, h: int) -> int | None:

@@ -5,8 +5,9 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from helpers.fuzzing import oracle_settings
 from helpers.sat_families import families, symmetric_families
-from hypothesis import HealthCheck, given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 
 from mega_sat.ground.family import GroundFamily
@@ -32,9 +33,7 @@ def every_pair(family: GroundFamily) -> list[symmetry.Swap]:
     return out
 
 
-@settings(
-    max_examples=200, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck)
-)
+@oracle_settings(200)
 @given(fam=st.one_of(families(), symmetric_families(max_atoms=3, max_actions=3, max_updates=3)))
 def test_filter_keeps_every_swap_of_random_families(fam: GroundFamily):
     assert object_swaps(fam) == every_pair(fam)

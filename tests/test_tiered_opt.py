@@ -3,8 +3,9 @@ and the reachable-states tier on a model that only an exhaustive search proves u
 
 from dataclasses import replace
 
+from helpers.fuzzing import oracle_settings
 from helpers.sat_families import all_selections, assert_optimum, families
-from hypothesis import HealthCheck, given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 
 from mega_sat.ground.family import GroundAction, GroundFamily
@@ -74,9 +75,7 @@ def test_a_state_budget_too_small_proves_nothing_and_the_planner_answers():
     assert tiers.stats["opt_by_reachable_states"] == 0 and tiers.stats["opt_by_planner"] == 2
 
 
-@settings(
-    max_examples=200, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck)
-)
+@oracle_settings(200)
 @given(fam=families(), states=st.sampled_from([1, 3, 50_000]), bounds_first=st.booleans())
 def test_every_tier_gives_the_optimal_cost_on_every_model(fam, states, bounds_first):
     """All selections in turn, so that the reachable-states tier runs once a model had no plan,

@@ -14,10 +14,11 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner
 from helpers.bruteforce import brute_force_frontier, brute_force_mce
+from helpers.fuzzing import oracle_settings
 from helpers.minitasks import usar_like
 from helpers.randomtasks import two_model_tasks
 from helpers.tradeoff_tasks import tradeoff_tasks
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, given
 from hypothesis import strategies as st
 
 from mega_sat.api import MegaSolver, load_task_dir
@@ -44,11 +45,8 @@ P6P7 = "add-has-initial-state-clear_path p6 p7"
 P7P5 = "add-has-initial-state-clear_path p7 p5"
 P1P8 = "remove-has-initial-state-clear_path p1 p8"
 
-SETTINGS = settings(
-    max_examples=40,
-    deadline=None,
-    derandomize=True,
-    suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much],
+SETTINGS = oracle_settings(
+    40, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much]
 )
 TASKS = st.one_of(two_model_tasks(max_delta=6), tradeoff_tasks())
 
@@ -146,7 +144,7 @@ def test_astar_with_costs_is_a_sound_baseline(task, data, alpha):
         )
 
 
-@settings(SETTINGS, max_examples=60)
+@oracle_settings(60, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
 @given(TASKS, st.data())
 def test_astar_pops_models_in_order_of_cost(task, data):
     """The model-space queue is keyed by cost(E): the per-node planner sees the models in
