@@ -1,4 +1,4 @@
-"""pytest options of the suite: ``--fuzz-long`` runs the fuzz tests with the long budget.
+"""pytest options of the suite: ``--fuzz-long`` runs the fuzz and property tests with the long budget.
 
 The interrupt tests send SIGINT to the processes they start, and to this one.  A shell starts
 a background job (``bash .ci/run &``, ``nohup``) with SIGINT ignored, and an ignored signal
@@ -19,7 +19,7 @@ def pytest_addoption(parser):
     parser.addoption(
         "--fuzz-long",
         action="store_true",
-        help="fuzz tests with the long budget (same as MEGA_SAT_FUZZ_LONG=1)",
+        help="fuzz and property tests with the long budget (same as MEGA_SAT_FUZZ_LONG=1)",
     )
 
 
