@@ -3,8 +3,9 @@
 from __future__ import annotations
 
 import pytest
+from helpers.fuzzing import oracle_settings
 from helpers.randomtasks import models
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, given
 
 from mega_sat.errors import PlannerError
 from mega_sat.ground.grounding import ground_model
@@ -59,7 +60,7 @@ def test_errors_raise_planner_error():
 
 
 @needs_fd
-@settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@oracle_settings(12, suppress_health_check=[HealthCheck.too_slow])
 @given(models(allow_zero_cost=True))
 def test_fd_optimal_cost_equals_builtin(model):
     from mega_sat.pddl.writer import domain_to_pddl, problem_to_pddl

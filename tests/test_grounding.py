@@ -6,8 +6,9 @@ import time
 from dataclasses import replace
 from itertools import product
 
+from helpers.fuzzing import oracle_settings
 from helpers.randomtasks import applicable_steps, plans, selections, two_model_tasks
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 
 from mega_sat.ground.family import holds
@@ -188,7 +189,7 @@ def test_ground_model_matches_single_model():
     assert simulate_ground(gt, [("move", "a", "b"), ("move", "b", "c")]).cost == 4
 
 
-@settings(max_examples=120, deadline=None)
+@oracle_settings(120, suppress_health_check=())
 @given(data=st.data())
 def test_specialisation_agrees_with_lifted_simulation(data):
     task = data.draw(two_model_tasks())
@@ -210,7 +211,7 @@ def test_specialisation_agrees_with_lifted_simulation(data):
             assert lifted.reason == grounded.reason
 
 
-@settings(max_examples=60, deadline=None)
+@oracle_settings(60, suppress_health_check=())
 @given(data=st.data())
 def test_every_reachable_applicable_step_is_grounded_identically(data):
     """Completeness: explore each sampled member's reachable states by brute force; every

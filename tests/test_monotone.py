@@ -7,6 +7,7 @@ updates"), so a wrong direction would make it learn clauses that cut off solutio
 
 from __future__ import annotations
 
+from helpers.fuzzing import oracle_settings
 from helpers.sat_families import (
     dijkstra,
     families,
@@ -15,14 +16,14 @@ from helpers.sat_families import (
     random_run,
     selections,
 )
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 
 from mega_sat.analysis.monotone import drop_relaxing, drop_restricting, restricting_values
 from mega_sat.ground.family import GroundAction, GroundFamily
 
 
-@settings(max_examples=3000, deadline=None)
+@oracle_settings(3000, suppress_health_check=())
 @given(fam=families(max_atoms=3, max_actions=6, max_updates=4), data=st.data())
 def test_the_restricting_value_gives_a_sub_model(fam: GroundFamily, data):
     restricting = restricting_values(fam)

@@ -8,7 +8,8 @@ import sys
 from pathlib import Path
 
 import pytest
-from hypothesis import given, settings
+from helpers.fuzzing import oracle_settings
+from hypothesis import given
 from hypothesis import strategies as st
 
 from mega_sat.errors import UsageError
@@ -151,7 +152,7 @@ def models(draw) -> Model:
     )
 
 
-@settings(max_examples=50, deadline=None)
+@oracle_settings(50, suppress_health_check=())
 @given(models())
 def test_random_models_round_trip(m):
     m2 = _round_trip(m)

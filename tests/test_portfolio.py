@@ -7,8 +7,9 @@ from __future__ import annotations
 import os
 
 import pytest
+from helpers.fuzzing import oracle_settings
 from helpers.sat_families import assert_optimum, dijkstra, families, plan_cost, selections
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 
 from mega_sat.deadline import Deadline
@@ -26,7 +27,7 @@ from mega_sat.search.astar import (
 
 
 @pytest.mark.parametrize("forked", [True, False])
-@settings(max_examples=40, deadline=None)
+@oracle_settings(40, suppress_health_check=())
 @given(fam=families(), data=st.data())
 def test_portfolio_gives_the_optimum(forked: bool, fam: GroundFamily, data):
     if forked and not hasattr(os, "fork"):
@@ -41,7 +42,7 @@ def test_portfolio_gives_the_optimum(forked: bool, fam: GroundFamily, data):
         assert_optimum(fam.specialize(sel), r.status, r.cost, r.plan)
 
 
-@settings(max_examples=30, deadline=None)
+@oracle_settings(30, suppress_health_check=())
 @given(fam=families(), data=st.data())
 def test_tiered_stats_name_the_method_that_answered(fam: GroundFamily, data):
     tiers = TieredOpt(fam, NodePlanner(None, fam, "portfolio"))
@@ -51,7 +52,7 @@ def test_tiered_stats_name_the_method_that_answered(fam: GroundFamily, data):
     assert sum(tiers.stats.get(k, 0) for k in keys) == tiers.stats["opt_by_planner"]
 
 
-@settings(max_examples=40, deadline=None)
+@oracle_settings(40, suppress_health_check=())
 @given(fam=families(), data=st.data())
 def test_paused_search_answers_like_the_search_run_through(fam: GroundFamily, data):
     task = fam.specialize(data.draw(selections(fam.n_updates)))
@@ -89,7 +90,7 @@ def test_forked_search_answers_and_stops():
     assert done and (work, method) == (int(here[3]), here[4])
 
 
-@settings(max_examples=40, deadline=None)
+@oracle_settings(40, suppress_health_check=())
 @given(fam=families(), data=st.data())
 def test_paused_astar_answers_like_astar(fam: GroundFamily, data):
     task = fam.specialize(data.draw(selections(fam.n_updates)))
@@ -104,7 +105,7 @@ def test_paused_astar_answers_like_astar(fam: GroundFamily, data):
     assert (status, plan, cost, expanded) == (r.status, r.plan, r.cost, r.expanded)
 
 
-@settings(max_examples=60, deadline=None)
+@oracle_settings(60, suppress_health_check=())
 @given(fam=families(), data=st.data())
 def test_blind_and_lmcut_by_turns_give_the_optimum(fam: GroundFamily, data):
     """Whichever of the two searches ends first, its answer is the optimum (or a proof that
@@ -211,7 +212,7 @@ def _fd_or_skip():
         pytest.skip("needs Fast Downward (the fd extra) and fork")
 
 
-@settings(max_examples=8, deadline=None)
+@oracle_settings(8, suppress_health_check=())
 @given(fam=families(), data=st.data())
 def test_fast_downward_on_a_ground_family_gives_the_optimum(fam: GroundFamily, data):
     """The race hands FD the ground model when it has no lifted task (negative
@@ -296,7 +297,7 @@ def test_a_failing_fast_downward_leaves_the_race_to_answer(monkeypatch):
     assert all(r.exact and r.planner in ("builtin", "sat") for r in got)
 
 
-@settings(max_examples=30, deadline=None)
+@oracle_settings(30, suppress_health_check=())
 @given(fam=families(), data=st.data())
 def test_opt_says_when_it_holds_a_plan(fam: GroundFamily, data):
     """The race hands a call to FD only while ``OptOracle.descent`` says SAT holds a plan of

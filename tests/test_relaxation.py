@@ -8,7 +8,8 @@ from __future__ import annotations
 import heapq
 import math
 
-from hypothesis import given, settings
+from helpers.fuzzing import oracle_settings
+from hypothesis import given
 from hypothesis import strategies as st
 
 from mega_sat.analysis.relaxation import RelaxedTask
@@ -98,7 +99,7 @@ def tasks_and_states(draw):
     return task, state
 
 
-@settings(max_examples=300, deadline=None)
+@oracle_settings(300, suppress_health_check=())
 @given(tasks_and_states(), st.booleans())
 def test_hmax_and_lmcut_equal_the_reference(case, unit):
     task, state = case

@@ -6,8 +6,9 @@ import heapq
 import time
 
 import pytest
+from helpers.fuzzing import oracle_settings
 from helpers.randomtasks import models, selections, two_model_tasks
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 
 from mega_sat.analysis.relaxation import RelaxedTask
@@ -57,7 +58,7 @@ def check_all_heuristics(gt: GroundTask) -> None:
         assert relaxed.h_max(init) <= relaxed.lmcut(init) <= expected  # dominance, admissible
 
 
-@settings(max_examples=80, deadline=None)
+@oracle_settings(80, suppress_health_check=())
 @given(data=st.data())
 def test_astar_matches_uniform_cost_search(data):
     task = data.draw(two_model_tasks())
@@ -66,7 +67,7 @@ def test_astar_matches_uniform_cost_search(data):
         check_all_heuristics(fam.specialize(sel))
 
 
-@settings(max_examples=60, deadline=None)
+@oracle_settings(60, suppress_health_check=())
 @given(models(allow_zero_cost=True))
 def test_astar_matches_uniform_cost_search_with_zero_cost_actions(model):
     check_all_heuristics(ground_model(model))
@@ -201,14 +202,14 @@ def token_tasks(draw) -> GroundTask:
     return GroundTask(tuple(atoms), tuple(acts), frozenset(init), frozenset(goals))
 
 
-@settings(max_examples=40, deadline=None)
+@oracle_settings(40, suppress_health_check=())
 @given(token_tasks())
 def test_astar_on_larger_state_spaces(gt):
     """Bigger spaces exercise reopening (LM-cut is not consistent) and the successor groups."""
     check_all_heuristics(gt)
 
 
-@settings(max_examples=40, deadline=None)
+@oracle_settings(40, suppress_health_check=())
 @given(token_tasks(), st.integers(0, 12))
 def test_bounded_search_finds_the_optimum_within_the_bound_or_proves_none(gt, bound):
     """The search the sat engine runs for a human plan below the robot optimum: within the

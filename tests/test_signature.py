@@ -6,8 +6,9 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from helpers.fuzzing import oracle_settings
 from helpers.randomtasks import two_model_tasks
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 
 from mega_sat.ground.grounding import ground
@@ -211,7 +212,7 @@ def test_vectorised_grounding_in_small_blocks_equals_per_action(monkeypatch):
         assert ground(task, vectorise_from=1) == ground(task, vectorise_from=None), folder
 
 
-@settings(max_examples=60, deadline=None)
+@oracle_settings(60, suppress_health_check=())
 @given(data=st.data())
 def test_vectorised_grounding_equals_per_action_on_random_tasks(data):
     task = data.draw(two_model_tasks(max_delta=8))

@@ -8,15 +8,16 @@ from __future__ import annotations
 
 from dataclasses import replace
 
+from helpers.fuzzing import oracle_settings
 from helpers.sat_families import agreeing, families, guards, plan_cost, random_run, selections
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 
 from mega_sat.engines.support import causal_support, tight_support
 from mega_sat.ground.family import GroundFamily, holds
 
 
-@settings(max_examples=400, deadline=None)
+@oracle_settings(400, suppress_health_check=())
 @given(fam=families(max_atoms=3, max_actions=6, max_updates=4), data=st.data())
 def test_supports_keep_the_plan_running_at_the_same_cost(fam: GroundFamily, data):
     sel = data.draw(selections(fam.n_updates))

@@ -3,8 +3,9 @@
 from __future__ import annotations
 
 import pytest
+from helpers.fuzzing import oracle_settings
 from helpers.randomtasks import models, plans
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, given
 from hypothesis import strategies as st
 
 from mega_sat.ground.simulate import simulate
@@ -36,7 +37,7 @@ def test_verdicts():
     assert not r.valid and "fly" in r.message
 
 
-@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@oracle_settings(40, suppress_health_check=[HealthCheck.too_slow])
 @given(data=st.data())
 def test_val_agrees_with_simulate(data):
     from mega_sat.pddl.writer import domain_to_pddl, problem_to_pddl

@@ -4,7 +4,8 @@ negative preconditions, atoms no action changes, node limits and states wider th
 
 from __future__ import annotations
 
-from hypothesis import given, settings
+from helpers.fuzzing import oracle_settings
+from hypothesis import given
 from hypothesis import strategies as st
 
 from mega_sat.ground.family import GroundTask, StripsAction
@@ -58,7 +59,7 @@ def strips_tasks(draw) -> GroundTask:
     return GroundTask(atoms, tuple(acts), init, goal)
 
 
-@settings(max_examples=300, deadline=None)
+@oracle_settings(300, suppress_health_check=())
 @given(strips_tasks(), st.sampled_from([None, None, 0, 1, 3, 7]))
 def test_vector_search_is_the_python_search(task, node_limit):
     init = sum(1 << p for p in task.init)
@@ -116,7 +117,7 @@ def test_large_searches_agree_with_the_python_search_and_switch_over():
         assert py[0] == Status.UNSOLVABLE and mixed == py and mixed_counts == py_counts
 
 
-@settings(max_examples=300, deadline=None)
+@oracle_settings(300, suppress_health_check=())
 @given(strips_tasks(), st.sampled_from([None, None, 1, 4, 20]))
 def test_goal_reachable_agrees_with_search(task, node_limit):
     """Reachability proves unsolvable exactly the tasks the search exhausts, within the same
@@ -144,7 +145,7 @@ def test_goal_reachable_agrees_with_search(task, node_limit):
         assert verdict == (Status.PLAN if full[0] == Status.OPTIMAL else Status.UNSOLVABLE)
 
 
-@settings(max_examples=200, deadline=None)
+@oracle_settings(200, suppress_health_check=())
 @given(strips_tasks(), st.lists(st.integers(0, 30), min_size=1, max_size=5))
 def test_reachability_resumed_in_steps_is_one_run(task, limits):
     """Resumed with growing state limits, the check ends with the verdict and the count of a
