@@ -296,16 +296,14 @@ def sat_frontier(
     all_updates = range(len(task.delta))
     restricting = orc.restricting
     progress.stats = stats
-
-    def runs_in(model, plan) -> bool:
-        return plan is not None and ground_plan_cost(model, plan) is not None
-
     pairs = JointPairs(family) if options.joint_pair_proofs else None
     inv_cores: InvariantCores | None = None  # built at the first IC3 invariant
     try:
         # updates every solution needs, proven once: each a unit clause.  A robot plan that
         # runs in the human model is a joint plan of E = {}: then there are none to prove.
-        if pairs is not None and not runs_in(family.specialize(()), robot.plan):
+        if pairs is not None and (
+            robot.plan is None or ground_plan_cost(family.specialize(()), robot.plan) is None
+        ):
             for i in sorted(pairs.landmarks(deadline)):
                 stats["explanation_landmarks"] += 1
                 _learn(hs, ((i, True),), stats)
