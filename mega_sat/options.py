@@ -164,6 +164,14 @@ class Options:
             "zero": True,
         },
     )
+    plan_below_robot_with_fd: bool = field(
+        default=False,
+        metadata={
+            "doc": "look for that cheaper human plan also when Fast Downward answers OPT "
+            "(off: the FD call it would save costs less than the search and SAT call on the "
+            "shipped domains, bench/README.md)"
+        },
+    )
     plan_below_robot_max_updates: int = field(
         default=10,
         metadata={
@@ -259,6 +267,25 @@ class Options:
     quick_nodes: int = field(
         default=5000,
         metadata={"doc": "nodes of the blind search tried first in the sat engine's OPT"},
+    )
+    fd_alongside_quick_nodes: int = field(
+        default=2048,
+        metadata={
+            "zero": True,
+            "doc": "with Fast Downward as OPT's planner: expansions of that blind search after "
+            "which FD starts on the same model alongside it, on the other core (ended if the "
+            "search answers; the answer is the same either way; 0: FD only once the search "
+            "has given up)",
+        },
+    )
+    fd_first_candidate_ahead: bool = field(
+        default=True,
+        metadata={
+            "doc": "with Fast Downward as OPT's planner: when FD starts on the robot's model, "
+            "start it on the human's model as it is (the loop's first candidate) alongside, "
+            "on the other core (ended once the loop has moved on without it; answers "
+            "unchanged)"
+        },
     )
     unsolvable_probe_states: int = field(
         default=50_000,

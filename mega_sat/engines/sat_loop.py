@@ -145,14 +145,23 @@ def sat_frontier(
             r = sat_opt.optimal(sel)
         return r
 
+    if planner == "fd" and options.fd_first_candidate_ahead:
+        # E = {} comes first (or soon): FD can prove its optimum alongside the robot's
+        tiered.fd_ahead.append(frozenset())
     try:
         robot = opt_of(family.robot_selection)
+        require_robot_plan(task, robot)
     except (OracleInterrupted, TimeLimitReached) as e:
+        opt_planner.discard()
         orc.deadline = earlier_deadline
         if isinstance(e, TimeLimitReached) or not deadline.expired():
             raise
         raise TimeLimitReached(deadline.seconds) from None  # nothing proven to report
-    require_robot_plan(task, robot)
+    except BaseException:
+        opt_planner.discard()
+        raise
+    finally:
+        tiered.fd_ahead.clear()
     if not robot.exact:
         exact = False
         notes.append(f"robot optimum not proven: {robot.reason}")
@@ -240,6 +249,11 @@ def sat_frontier(
     most = options.plan_below_robot_max_updates
     small = most > 0 and len(task.delta) <= most  # 0: never, not even without updates
     below_nodes = NodeBudget(options.plan_below_robot_nodes if small else 0)
+    # Fast Downward answers the OPT call this would save for less than the search and the SAT
+    # call cost (bench/README.md), so with FD it is off unless asked for
+    below_sat = options.plan_below_robot_conflicts
+    if planner == "fd" and not options.plan_below_robot_with_fd:
+        below_sat = 0
 
     def plan_below_robot(sel, known: Bounds) -> Bounds:
         """``known`` with a plan of ``human + sel`` cheaper than the robot optimum, when one
@@ -248,7 +262,7 @@ def sat_frontier(
         A search pruned at the robot optimum tries first (its plan is the optimum, so the
         lower bound is its cost; a search that runs out of states proves the robot optimum
         a lower bound), then one SAT call."""
-        budget = options.plan_below_robot_conflicts
+        budget = below_sat
         if (
             budget <= 0
             or robot_lb is None
@@ -321,6 +335,8 @@ def sat_frontier(
             if sel is None:
                 complete = True
                 break
+            if stats["iterations"]:
+                opt_planner.discard()  # runs started ahead for a model the loop has passed
             # every selection cheaper than sel is excluded by clauses that hold for any
             # robot-cost bound <= K, so a solution cheaper than the last point costs cost(sel)
             progress.lower_bound = cost_of(sel)
@@ -460,6 +476,7 @@ def sat_frontier(
                 break
             bound = res.robot_cost - 1
     finally:
+        opt_planner.discard()
         hs.close()
         if inv_cores is not None:
             inv_cores.close()

@@ -100,61 +100,115 @@ def fd_plan(
     """Run Fast Downward on PDDL text; ``planner`` of the result is ``"fd"``.  FD gets the time
     left before ``deadline`` (or ``time_limit`` seconds, a limit of this call alone, when that
     comes first) and answers ``TIMEOUT`` when it runs out."""
-    script = fd_script()
-    if script is None:
-        raise PlannerError("Fast Downward is not installed: pip install 'mega-sat[fd]'")
-    t0 = time.perf_counter()
-    deadline = within(deadline, time_limit)
+    return FdRun(
+        domain_text, problem_text, search=search, deadline=deadline, time_limit=time_limit
+    ).result()
 
-    def result(status: Status, plan=None, cost=None) -> PlanResult:
-        reason = "" if status.decided else str(status)
-        elapsed = time.perf_counter() - t0
-        return PlanResult(status, plan, cost, status.decided, "fd", elapsed, reason)
 
-    with tempfile.TemporaryDirectory(prefix="mega-sat-fd-") as tmp:
-        dom, prob, plan_file = (
+class FdRun:
+    """One Fast Downward process, started on construction: :meth:`result` waits for its answer
+    (as :func:`fd_plan` gives it), :meth:`cancel` ends it unanswered.  Either one removes the
+    process group and the temporary folder, so a run started ahead of need (OPT's quick search
+    on the other core) leaves nothing behind when it is not needed."""
+
+    def __init__(
+        self,
+        domain_text: str,
+        problem_text: str,
+        *,
+        search: str = "astar(lmcut())",
+        deadline: Deadline | None = None,
+        time_limit: float | None = None,
+    ):
+        script = fd_script()
+        if script is None:
+            raise PlannerError("Fast Downward is not installed: pip install 'mega-sat[fd]'")
+        self.t0 = time.perf_counter()
+        self.deadline = within(deadline, time_limit)
+        self._tmp: tempfile.TemporaryDirectory | None = tempfile.TemporaryDirectory(
+            prefix="mega-sat-fd-"
+        )
+        tmp = self._tmp.name
+        dom, prob, self._plan_file = (
             os.path.join(tmp, n) for n in ("domain.pddl", "problem.pddl", "plan")
         )
-        Path(dom).write_text(domain_text)
-        Path(prob).write_text(problem_text)
-        cmd = [sys.executable, str(script), "--plan-file", plan_file, dom, prob]
+        cmd = [sys.executable, str(script), "--plan-file", self._plan_file, dom, prob]
         # No mutex invariants: with them, a delete of an atom the action does not require
         # becomes a conditional effect, which astar(lmcut()) refuses ("unsupported feature").
         # Binary variables keep plain STRIPS semantics and optimal costs are unchanged.
         cmd += ["--translate-options", "--invariant-generation-max-candidates", "0"]
         cmd += ["--search-options", "--search", search]
-        # the time limit is wall-clock and enforced here: FD's own --overall-time-limit is CPU
-        # time rounded down per component (a 1 s limit leaves the translator 0 s).  FD runs
-        # in its own process group so the translator and search die with the driver.
-        proc = subprocess.Popen(
-            cmd,
-            cwd=tmp,
-            stdout=subprocess.PIPE,
-            stderr=subprocess.PIPE,
-            text=True,
-            start_new_session=True,
-        )
         try:
-            stdout, stderr = proc.communicate(timeout=deadline.remaining())
-        except subprocess.TimeoutExpired:
-            _kill_group(proc)
-            return result(Status.TIMEOUT)
-        except BaseException:  # an interrupt or the run's time limit: no orphaned search
-            _kill_group(proc)
+            Path(dom).write_text(domain_text)
+            Path(prob).write_text(problem_text)
+            # the time limit is wall-clock and enforced here: FD's own --overall-time-limit is
+            # CPU time rounded down per component (a 1 s limit leaves the translator 0 s).  FD
+            # runs in its own process group so the translator and search die with the driver.
+            self._proc: subprocess.Popen | None = subprocess.Popen(
+                cmd,
+                cwd=tmp,
+                stdout=subprocess.PIPE,
+                stderr=subprocess.PIPE,
+                text=True,
+                start_new_session=True,
+            )
+        except BaseException:
+            self._tmp.cleanup()
+            self._tmp = None
             raise
-        rc = proc.returncode
-        if rc == _SOLVED:
-            if not os.path.exists(plan_file):
-                raise PlannerError("Fast Downward reported success but wrote no plan file")
-            steps, cost = parse_plan_text(Path(plan_file).read_text())
-            if cost is None:
-                raise PlannerError("Fast Downward's plan file has no '; cost = N' line")
-            return result(Status.OPTIMAL, steps, cost)
-        if rc in _UNSOLVABLE:
-            return result(Status.UNSOLVABLE)
-        if rc in _TIMEOUT:
-            return result(Status.TIMEOUT)
-        raise PlannerError(f"Fast Downward failed (exit code {rc}): {_error_line(stderr, stdout)}")
+
+    def _answer(self, status: Status, plan=None, cost=None) -> PlanResult:
+        reason = "" if status.decided else str(status)
+        elapsed = time.perf_counter() - self.t0
+        return PlanResult(status, plan, cost, status.decided, "fd", elapsed, reason)
+
+    def result(self) -> PlanResult:
+        """FD's answer (``TIMEOUT`` past the deadline); raises :class:`PlannerError` when FD
+        fails.  Called once."""
+        proc = self._proc
+        if proc is None:
+            raise PlannerError("this Fast Downward run was cancelled or has answered already")
+        self._proc = None
+        try:
+            try:
+                stdout, stderr = proc.communicate(timeout=self.deadline.remaining())
+            except subprocess.TimeoutExpired:
+                _kill_group(proc)
+                return self._answer(Status.TIMEOUT)
+            except BaseException:  # an interrupt or the run's time limit: no orphaned search
+                _kill_group(proc)
+                raise
+            rc = proc.returncode
+            if rc == _SOLVED:
+                if not os.path.exists(self._plan_file):
+                    raise PlannerError("Fast Downward reported success but wrote no plan file")
+                steps, cost = parse_plan_text(Path(self._plan_file).read_text())
+                if cost is None:
+                    raise PlannerError("Fast Downward's plan file has no '; cost = N' line")
+                return self._answer(Status.OPTIMAL, steps, cost)
+            if rc in _UNSOLVABLE:
+                return self._answer(Status.UNSOLVABLE)
+            if rc in _TIMEOUT:
+                return self._answer(Status.TIMEOUT)
+            raise PlannerError(
+                f"Fast Downward failed (exit code {rc}): {_error_line(stderr, stdout)}"
+            )
+        finally:
+            self._cleanup()
+
+    def cancel(self) -> None:
+        """End the run without its answer (a no-op once it has answered)."""
+        proc, self._proc = self._proc, None
+        try:
+            if proc is not None:
+                _kill_group(proc)
+        finally:
+            self._cleanup()
+
+    def _cleanup(self) -> None:
+        if self._tmp is not None:
+            self._tmp.cleanup()
+            self._tmp = None
 
 
 def _kill_group(proc: subprocess.Popen) -> None:

@@ -120,6 +120,8 @@ class NodePlanner:
         # portfolio: the method to try first (the last winner) and its first turn's seconds
         self._first = "builtin"
         self._has_fd: bool | None = None  # Fast Downward installed (looked up once)
+        # FD runs started by prepare() ahead of their optimal() calls: selection -> (run, names)
+        self._pending: dict[frozenset[int], tuple] = {}
 
     @property
     def oracles(self):
@@ -176,29 +178,71 @@ class NodePlanner:
         r = self._fd(sel, task, call)
         return answer(r.status, r.plan, r.cost, reason=r.reason)
 
-    def _fd(self, sel: frozenset[int], task: GroundTask, call: Deadline) -> PlanResult:
-        """Fast Downward's optimum of ``human + sel`` (``task``), its plan in the family's
-        steps; raises :class:`PlannerError` when FD fails."""
+    def prepare(self, selection: frozenset[int]) -> None:
+        """Start Fast Downward on ``human + selection`` now, for an :meth:`optimal` call that
+        may follow (OPT's quick search runs meanwhile on this core); :meth:`discard` ends it
+        when the call is not needed.  The answer is the one :meth:`optimal` gives without it.
+        Only the ``fd`` planner starts anything."""
+        sel = frozenset(selection)
+        if self.kind != "fd" or sel in self._pending:
+            return
+        t0 = time.perf_counter()
+        try:
+            task = self.family.specialize(sel)
+            if task.goal <= task.init:
+                return
+            call = within(self.deadline, self.time_limit)
+            self._pending[sel] = self._fd_start(sel, task, call)
+        finally:
+            self.time_s += time.perf_counter() - t0
+
+    def discard(self, selection: frozenset[int] | None = None) -> None:
+        """End the run :meth:`prepare` started for ``selection`` (``None``: every one)."""
+        if selection is None:
+            runs = list(self._pending.values())
+            self._pending.clear()
+        else:
+            got = self._pending.pop(frozenset(selection), None)
+            runs = [] if got is None else [got]
+        for run, _ in runs:
+            run.cancel()
+
+    def _fd_start(self, sel: frozenset[int], task: GroundTask, call: Deadline):
+        """``(run, names)``: Fast Downward started on ``human + sel`` (``task``), on the lifted
+        model when it has no negative preconditions (``names`` None), else on the ground model
+        with those compiled away (``names``: its action names to the family's steps)."""
         from mega_sat.pddl.writer import domain_to_pddl, problem_to_pddl
-        from mega_sat.planners.fast_downward import fd_plan
+        from mega_sat.planners.fast_downward import FdRun
 
         # a planner made for a ground family alone (no lifted task) hands FD the ground model
         model = self.task.updated_model(sel) if self.task is not None else None
-        r = None
         if model is not None and not any(s.negpre for s in model.schemas.values()):
-            try:
-                r = fd_plan(domain_to_pddl(model), problem_to_pddl(model), deadline=call)
-            except PlannerError as e:
-                if "exit code 34" not in str(e):
-                    raise
-        if r is None:
+            return FdRun(domain_to_pddl(model), problem_to_pddl(model), deadline=call), None
+        dom, prob, names = ground_strips_pddl(task)
+        return FdRun(dom, prob, deadline=call), names
+
+    def _fd(self, sel: frozenset[int], task: GroundTask, call: Deadline) -> PlanResult:
+        """Fast Downward's optimum of ``human + sel`` (``task``), its plan in the family's
+        steps (from the run :meth:`prepare` started, if it is for ``sel``); raises
+        :class:`PlannerError` when FD fails."""
+        from mega_sat.planners.fast_downward import fd_plan
+
+        pending = self._pending.pop(sel, None)
+        run, names = pending if pending is not None else self._fd_start(sel, task, call)
+        try:
+            r = run.result()
+        except PlannerError as e:
+            if names is not None or "exit code 34" not in str(e):
+                raise
             # FD compiles negative preconditions (and some add/delete overlaps) into axioms or
             # conditional effects, which LM-cut rejects: hand it the ground model with those
             # compiled away instead (same plans, same costs)
             dom, prob, names = ground_strips_pddl(task)
             r = fd_plan(dom, prob, deadline=call)
+        if names is not None:
             if r.status == Status.OPTIMAL and r.plan is not None:
                 return replace(r, plan=tuple(names[s[0]] for s in r.plan))
+            return r
         if r.status == Status.OPTIMAL and r.plan is not None:
             # FD may print names in another case or order; map back onto the family's steps
             plan = tuple(tuple(x.lower() for x in s) for s in r.plan)

@@ -20,7 +20,9 @@ few updates.  Most answers can be proven without a planner call:
 3. **quick search**: uniform-cost search that finishes within ``Options.quick_nodes``
    expansions (exact: an exhausted space proves unsolvability, the first goal popped is
    optimal); the budget halves after each miss (down to 1/64) and doubles after each hit,
-   so on tasks where it never answers it costs little;
+   so on tasks where it never answers it costs little.  With Fast Downward as the planner,
+   FD starts on the model once the search has made ``Options.fd_alongside_quick_nodes``
+   expansions, and runs alongside it on the other core;
 4. **planner**: the configured optimal planner (built-in, SAT, Fast Downward, or the
    portfolio of built-in and SAT); ``opt_planner_<name>`` counts which one answered.
 
@@ -84,7 +86,11 @@ class TieredOpt:
     ):
         self.family = family
         self.planner = planner
-        quick_nodes = (options or planner.options).quick_nodes
+        opts = options or planner.options
+        quick_nodes = opts.quick_nodes
+        self.fd_early = opts.fd_alongside_quick_nodes
+        # models FD also starts on the next time it starts early (the loop's first candidate)
+        self.fd_ahead: list[frozenset[int]] = []
         # the built-in planner starts with the same uniform-cost search: no quick tier then
         self.quick_nodes = 0 if planner.kind == "builtin" else quick_nodes
         self.quick_budget = NodeBudget(self.quick_nodes)
@@ -178,11 +184,30 @@ class TieredOpt:
 
     def _search(self, sel: frozenset[int], t0: float) -> PlanResult:
         """Tiers 3 and 4: the optimum of ``human + sel`` by search."""
+        try:
+            return self._searched(sel, t0)
+        finally:
+            if self.planner.kind == "fd":
+                self.planner.discard(sel)  # a run started alongside the search and not used
+
+    def _start_fd(self, sel: frozenset[int]) -> None:
+        self.planner.prepare(sel)
+        for other in self.fd_ahead:
+            self.planner.prepare(other)
+        self.fd_ahead = []
+
+    def _searched(self, sel: frozenset[int], t0: float) -> PlanResult:
         task = self.family.specialize(sel)
         if self.quick_nodes:
+            # Fast Downward, a process of its own, starts alongside a search that has not
+            # answered after a few expansions: where the search then gives up, FD is that
+            # much further on (ended if the search answers; the answers are the same)
+            after = None
+            if self.planner.kind == "fd" and self.fd_early > 0:
+                after = (self.fd_early, lambda: self._start_fd(sel))
             # no deadline: the node budget bounds it, and a proof it finds is kept even at the
             # deadline (the loop then still reports the robot optimum and a lower bound)
-            r = astar(task, heuristic="blind", node_limit=self.quick_budget.now)
+            r = astar(task, heuristic="blind", node_limit=self.quick_budget.now, after=after)
             # where it keeps running out, it is mostly overhead: try it smaller next time
             self.quick_budget.record(r.status.decided)
             if r.status.decided:
@@ -196,6 +221,8 @@ class TieredOpt:
                 # numpy: imported here once, a forked race starts with it instead of paying
                 # the import in the child, where every run waits for it (times, not answers)
                 import mega_sat.search.vector_search  # noqa: F401
+        if self.planner.kind == "fd":
+            self._start_fd(sel)  # with the models to start alongside, if not started yet
         self.stats["opt_by_planner"] += 1
         r = self.planner.optimal(sel)
         if r.status.decided:  # which planner answered (the portfolio's winner)

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import heapq
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from mega_sat.analysis.relaxation import RelaxedTask, bits
@@ -105,10 +106,13 @@ def astar(
     deadline: Deadline | None = None,
     node_limit: int | None = None,
     time_limit: float | None = None,
+    after: tuple[int, Callable[[], None]] | None = None,
 ) -> PlanResult:
     """Optimal plan of ``task`` by A* with reopening; ``TIMEOUT`` once ``deadline`` has passed
     (or ``time_limit`` seconds, a limit of this call alone, still used by the SAT oracles'
-    fallback search), ``LIMIT`` after ``node_limit`` expansions."""
+    fallback search), ``LIMIT`` after ``node_limit`` expansions.  ``after = (n, call)``:
+    ``call()`` once the search has expanded ``n`` states and goes on (not with zero-cost
+    actions, whose uniform-cost search runs without pauses)."""
     deadline = within(deadline, time_limit)
     if heuristic not in HEURISTICS:
         raise ValueError(f"unknown heuristic {heuristic!r} (choose from {', '.join(HEURISTICS)})")
@@ -123,9 +127,13 @@ def astar(
         status, plan, cost, expanded = _uniform_cost(task, init, goal, node_limit, stop_at)
     else:
         steps = astar_steps(task, init, goal, heuristic, node_limit)
+        at, call = after if after is not None else (None, None)
         try:
             while True:
                 expanded, _ = next(steps)
+                if at is not None and expanded >= at:
+                    at = None
+                    call()
                 if stop_at is not None and time.perf_counter() > stop_at:
                     status, plan, cost = Status.TIMEOUT, None, None
                     break
