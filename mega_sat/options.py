@@ -165,11 +165,10 @@ class Options:
         },
     )
     plan_below_robot_with_fd: bool = field(
-        default=False,
+        default=True,
         metadata={
             "doc": "look for that cheaper human plan also when Fast Downward answers OPT "
-            "(off: the FD call it would save costs less than the search and SAT call on the "
-            "shipped domains, bench/README.md)"
+            "(off: an FD call answers instead; on small tasks that is faster, bench/README.md)"
         },
     )
     plan_below_robot_max_updates: int = field(

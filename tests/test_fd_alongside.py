@@ -1,7 +1,8 @@
 """Fast Downward started ahead of need (mega_sat/planners/tiered_opt.py, node_planner.py): a run
 that is not needed leaves nothing behind, and the sat engine's answers with FD as OPT's planner
 are the same whether FD starts alongside the quick search and the robot's call or only once
-the quick search has given up."""
+the quick search has given up.  With FD, the search for a plan below the robot optimum can be
+switched off."""
 
 from __future__ import annotations
 
@@ -24,11 +25,8 @@ from mega_sat.status import Status
 ROOT = Path(__file__).resolve().parent.parent
 needs_fd = pytest.mark.skipif(not fd_available(), reason="Fast Downward not installed")
 
-# nothing started ahead: FD only after the quick search gives up, one model at a time, and the
-# search for a human plan below the robot optimum as with the other planners
-SEQUENTIAL = Options(
-    fd_alongside_quick_nodes=0, fd_first_candidate_ahead=False, plan_below_robot_with_fd=True
-)
+# nothing started ahead: FD only after the quick search gives up, one model at a time
+SEQUENTIAL = Options(fd_alongside_quick_nodes=0, fd_first_candidate_ahead=False)
 
 
 def _pigeonhole(n: int) -> tuple[str, str]:
@@ -122,11 +120,18 @@ def test_prepare_then_discard_ends_the_run_and_optimal_takes_a_prepared_one():
 
 @needs_fd
 @pytest.mark.parametrize(
-    "name", ["rover-martian/delta/2/p3", "barman-bar/delta/7/p3", "blocksworld/delta/7/p3"]
+    ("name", "below"),
+    [
+        ("rover-martian/delta/2/p3", True),
+        ("rover-martian/delta/2/p3", False),
+        ("barman-bar/delta/7/p3", False),
+        ("blocksworld/delta/7/p3", True),
+    ],
 )
-def test_fd_started_ahead_gives_the_same_frontier(name):
+def test_fd_started_ahead_gives_the_same_frontier(name, below):
     """Tasks whose quick searches miss (FD starts alongside them, and on E = {} alongside the
-    robot's call) and hit (FD started past the threshold is ended)."""
+    robot's call) and hit (FD started past the threshold is ended), with and without the
+    search for a plan below the robot optimum."""
     task = load_task_dir(ROOT / "domains" / name)
     before = _fd_folders()
 
@@ -134,8 +139,10 @@ def test_fd_started_ahead_gives_the_same_frontier(name):
         fr = MegaSolver(task, planner="fd", options=options).frontier()
         return fr, [(p.explanation, p.plan, p.robot_cost, p.human_cost) for p in fr.points]
 
-    ahead, ahead_points = frontier(replace(Options(), fd_alongside_quick_nodes=64))
-    sequential, sequential_points = frontier(replace(SEQUENTIAL, plan_below_robot_with_fd=False))
+    ahead, ahead_points = frontier(
+        replace(Options(), fd_alongside_quick_nodes=64, plan_below_robot_with_fd=below)
+    )
+    sequential, sequential_points = frontier(replace(SEQUENTIAL, plan_below_robot_with_fd=below))
     assert ahead.exact and sequential.exact
     assert ahead_points == sequential_points
     assert ahead.stats["opt_planner_fd"] == sequential.stats["opt_planner_fd"]
@@ -143,13 +150,14 @@ def test_fd_started_ahead_gives_the_same_frontier(name):
 
 
 @needs_fd
-def test_with_fd_the_search_below_the_robot_optimum_runs_only_when_asked():
+def test_with_fd_the_search_below_the_robot_optimum_can_be_switched_off():
     task = load_task_dir(ROOT / "domains/rover-martian/delta/2/p3")
     default = MegaSolver(task, planner="fd").frontier()
-    asked = MegaSolver(task, planner="fd", options=SEQUENTIAL).frontier()
-    assert not default.stats.get("sat_plan_within_calls")
-    assert asked.stats["sat_plan_within_calls"] >= 1
+    off = Options(plan_below_robot_with_fd=False)
+    without = MegaSolver(task, planner="fd", options=off).frontier()
+    assert default.stats["sat_plan_within_calls"] >= 1
+    assert not without.stats.get("sat_plan_within_calls")
     assert [(p.explanation, p.robot_cost) for p in default.points] == [
-        (p.explanation, p.robot_cost) for p in asked.points
+        (p.explanation, p.robot_cost) for p in without.points
     ]
-    assert default.exact and asked.exact
+    assert default.exact and without.exact

@@ -249,8 +249,7 @@ def sat_frontier(
     most = options.plan_below_robot_max_updates
     small = most > 0 and len(task.delta) <= most  # 0: never, not even without updates
     below_nodes = NodeBudget(options.plan_below_robot_nodes if small else 0)
-    # Fast Downward answers the OPT call this would save for less than the search and the SAT
-    # call cost (bench/README.md), so with FD it is off unless asked for
+    # with Fast Downward, an FD call can answer instead (faster on small tasks, bench/README.md)
     below_sat = options.plan_below_robot_conflicts
     if planner == "fd" and not options.plan_below_robot_with_fd:
         below_sat = 0
