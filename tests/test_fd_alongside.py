@@ -12,6 +12,7 @@ from dataclasses import replace
 from pathlib import Path
 
 import pytest
+from helpers.pddl_tasks import pigeonhole
 
 from mega_sat.api import MegaSolver, load_task_dir
 from mega_sat.errors import PlannerError
@@ -27,24 +28,6 @@ needs_fd = pytest.mark.skipif(not fd_available(), reason="Fast Downward not inst
 
 # nothing started ahead: FD only after the quick search gives up, one model at a time
 SEQUENTIAL = Options(fd_alongside_quick_nodes=0, fd_first_candidate_ahead=False)
-
-
-def _pigeonhole(n: int) -> tuple[str, str]:
-    """n + 1 pigeons, n holes: FD needs far longer than a test to prove it unsolvable."""
-    domain = """(define (domain ph) (:requirements :strips)
- (:predicates (free ?h) (placed ?p) (pigeon ?p) (hole ?h))
- (:action put :parameters (?p ?h)
-  :precondition (and (pigeon ?p) (hole ?h) (free ?h))
-  :effect (and (placed ?p) (not (free ?h)))))
-"""
-    pigeons = [f"p{i}" for i in range(n + 1)]
-    holes = [f"h{i}" for i in range(n)]
-    init = [f"(pigeon {p})" for p in pigeons] + [f"(hole {h}) (free {h})" for h in holes]
-    problem = (
-        f"(define (problem ph{n}) (:domain ph) (:objects {' '.join(pigeons + holes)})"
-        f" (:init {' '.join(init)}) (:goal (and {' '.join(f'(placed {p})' for p in pigeons)})))"
-    )
-    return domain, problem
 
 
 @pytest.fixture(autouse=True)
@@ -69,7 +52,7 @@ def _alive(pid: int) -> bool:
 @needs_fd
 def test_a_cancelled_run_leaves_no_process_and_no_folder():
     before = _fd_folders()
-    run = FdRun(*_pigeonhole(12))
+    run = FdRun(*pigeonhole(12))
     pid = run._proc.pid
     assert _alive(pid) and _fd_folders() - before
     run.cancel()
@@ -82,7 +65,7 @@ def test_a_cancelled_run_leaves_no_process_and_no_folder():
 
 @needs_fd
 def test_a_run_answers_as_fd_plan_and_cleans_up():
-    domain, problem = _pigeonhole(3)
+    domain, problem = pigeonhole(3)
     before = _fd_folders()
     assert FdRun(domain, problem).result().status == fd_plan(domain, problem).status
     assert fd_plan(domain, problem).status == Status.UNSOLVABLE
