@@ -1,0 +1,5 @@
+(define (problem bw9) (:domain blocks)
+  (:objects a b c d e f g h i - block)
+  (:init (clear c) (on c b) (on b a) (ontable a) (clear f) (on f e) (on e d) (ontable d) (clear i) (on i h) (on h g) (ontable g) (handempty)
+         (clear a) (clear b) (clear d) (clear e) (clear g) (clear h))
+  (:goal (and (on a b) (on b c) (on d e) (on e f) (on g h) (on h i))))
