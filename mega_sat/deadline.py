@@ -30,12 +30,15 @@ class TimeLimitReached(BaseException):  # noqa: N818 - the name says what happen
 
     exit_code = EXIT_TIMEOUT
 
-    def __init__(self, seconds: float | None = None, *, forced: bool = False):
+    def __init__(
+        self, seconds: float | None = None, *, forced: bool = False, detail: str | None = None
+    ):
         self.seconds = seconds
         self.forced = forced
-        super().__init__(
-            "time limit reached" if seconds is None else f"time limit {seconds}s reached"
-        )
+        self.detail = detail
+        """What was proven before the limit, for the error line (e.g. a lower bound)."""
+        text = "time limit reached" if seconds is None else f"time limit {seconds}s reached"
+        super().__init__(text if detail is None else f"{text} ({detail})")
 
 
 def parse_timeout(value: object, *, name: str = "timeout") -> float | None:

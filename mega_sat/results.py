@@ -223,12 +223,19 @@ def choose(frontier: Frontier, alpha: float) -> Solution:
     """
     check_alpha(alpha)
     if not frontier.points:
+        if not frontier.complete:
+            # stopped by the time limit before the first point: nothing to choose from, which
+            # proves nothing about the task (the A* engine raises the same at this point)
+            from mega_sat.deadline import TimeLimitReached
+
+            bound = frontier.next_cost_lower_bound
+            weighted = frontier.update_costs is not None
+            what = "cost(E)" if weighted else "|E|"
+            detail = None if bound is None else f"any solution needs {what} >= {bound}"
+            raise TimeLimitReached(detail=detail)
         from mega_sat.errors import UnsolvableError
 
-        raise UnsolvableError(
-            "no MEGA solution found"
-            + ("" if frontier.complete else " before the time limit (try a larger --timeout)")
-        )
+        raise UnsolvableError("no MEGA solution found")
     c = frontier.robot_optimal_cost
     a = exact_alpha(alpha)
     best = min(

@@ -283,6 +283,46 @@ def test_time_limit_with_a_partial_answer_is_exit_0(cmd, monkeypatch):
         assert d["chosen"]["robot_cost"] == 8
 
 
+def test_time_limit_before_the_first_point_is_exit_124(monkeypatch):
+    """``solve`` stopped after the robot optimum but before any point has nothing to choose
+    from: 124 with the proven lower bound, not 3 (which claims an unsolvable robot problem);
+    ``frontier`` reports the empty partial frontier with exit 0."""
+    from mega_sat.sat.oracles import SatOracles
+
+    joint = SatOracles.joint
+
+    def slow_joint(self, *args, **kw):
+        if self.deadline.limited:
+            time.sleep(self.deadline.remaining() + 0.01)
+        return joint(self, *args, **kw)
+
+    monkeypatch.setattr(SatOracles, "joint", slow_joint)
+    res = run("solve", "--alpha", "1", "--task", USAR, "--timeout", "1", "--json")
+    assert res.exit_code == 124, res.output
+    line = _one_error_line(res.stderr)
+    assert "time limit 1.0s reached before anything could be reported" in line
+    d = json.loads(res.stdout)
+    assert d["exit_code"] == 124 and d["status"] == "timeout" and d["complete"] is False
+    fr = run("frontier", "--task", USAR, "--timeout", "1", "--json")
+    assert fr.exit_code == 0, fr.output
+    d = json.loads(fr.stdout)
+    assert d["frontier"] == [] and d["complete"] is False
+
+
+def test_choose_from_an_empty_frontier():
+    """An empty frontier cut short by the time limit raises the stop, with the bound proven;
+    a complete empty one (no solution at all) is an unsolvable request."""
+    from mega_sat.errors import UnsolvableError
+    from mega_sat.results import Frontier, choose
+
+    cut = Frontier("sat", 5, ("u",), (), False, False, next_cost_lower_bound=2)
+    with pytest.raises(TimeLimitReached, match=r"any solution needs \|E\| >= 2") as got:
+        choose(cut, 1.0)
+    assert got.value.detail == "any solution needs |E| >= 2"
+    with pytest.raises(UnsolvableError, match="no MEGA solution found"):
+        choose(Frontier("sat", 5, ("u",), (), True, True), 1.0)
+
+
 def test_time_limit_during_verify_keeps_the_answer(monkeypatch):
     """A limit reached while --verify checks a finished frontier: the frontier stays exact,
     the reports made so far are printed, and the run is marked incomplete (exit 0)."""

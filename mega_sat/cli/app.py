@@ -265,10 +265,12 @@ def _command(fn):
                     code = fn(*args, run=run, **kwargs) or EXIT_OK
                 except MegaSatError as e:
                     code = run.fail(e.exit_code, str(e))
-                except TimeLimitReached:
+                except TimeLimitReached as e:
+                    detail = f"; {e.detail}" if e.detail else ""
                     code = run.fail(
                         EXIT_TIMEOUT,
-                        f"{run.deadline.describe()} reached before anything could be reported",
+                        f"{run.deadline.describe()} reached before anything could be reported"
+                        + detail,
                         "timeout",
                     )
                 except Interrupted as e:
