@@ -283,10 +283,11 @@ def test_time_limit_with_a_partial_answer_is_exit_0(cmd, monkeypatch):
         assert d["chosen"]["robot_cost"] == 8
 
 
-def test_time_limit_before_the_first_point_is_exit_124(monkeypatch):
+def test_time_limit_before_the_first_point_is_exit_124(monkeypatch, tmp_path):
     """``solve`` stopped after the robot optimum but before any point has nothing to choose
     from: 124 with the proven lower bound, not 3 (which claims an unsolvable robot problem);
-    ``frontier`` reports the empty partial frontier with exit 0."""
+    ``frontier`` reports the empty partial frontier with exit 0, and its ``--write-model
+    --force`` leaves an earlier folder as it was instead of emptying it."""
     from mega_sat.sat.oracles import SatOracles
 
     joint = SatOracles.joint
@@ -303,10 +304,17 @@ def test_time_limit_before_the_first_point_is_exit_124(monkeypatch):
     assert "time limit 1.0s reached before anything could be reported" in line
     d = json.loads(res.stdout)
     assert d["exit_code"] == 124 and d["status"] == "timeout" and d["complete"] is False
-    fr = run("frontier", "--task", USAR, "--timeout", "1", "--json")
+    earlier = tmp_path / "out"
+    earlier.mkdir()
+    (earlier / "kept.txt").write_text("an earlier run\n")
+    fr = run(
+        "frontier", "--task", USAR, "--timeout", "1", "--json", "--write-model", earlier, "--force"
+    )
     assert fr.exit_code == 0, fr.output
     d = json.loads(fr.stdout)
     assert d["frontier"] == [] and d["complete"] is False
+    assert "nothing written" in fr.stderr
+    assert [p.name for p in earlier.iterdir()] == ["kept.txt"]
 
 
 def test_choose_from_an_empty_frontier():

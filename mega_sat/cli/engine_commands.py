@@ -202,7 +202,11 @@ def _check_and_write(run, solver, points, do_verify, write_model, force):
                 + ("; --write-model skipped" if write_model else "")
             )
             return reports, notes
-    if write_model:
+    if write_model and not points:
+        # a time limit before the first point: an empty folder would replace the target (with
+        # --force) and say nothing
+        click.echo("; --write-model: no frontier point to write, nothing written", err=True)
+    elif write_model:
         for path in _write_models(solver, points, write_model):
             click.echo(f"; wrote {path}", err=True)
     return reports, notes
