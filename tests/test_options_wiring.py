@@ -98,6 +98,36 @@ def test_cli_options_change_no_answer():
     assert points("--option", "quick_nodes=1", "--option", "unsolvable-core-work=10") == points()
 
 
+STARVED = (
+    ("counting_time_limit=0.001",),
+    ("counting_time_limit=0.001", "monotone_cores=false"),
+    (
+        "quick_nodes=1",
+        "race_first_conflicts=1",
+        "counting_time_limit=0.001",
+        "race_processes=false",
+    ),
+)
+"""Knob settings that starve the cheap proofs: each must still give the same frontier (a CBC
+call cut short by a 1 ms limit once counted as a proof of "no plan", which dropped points and
+moved others while the run said exact)."""
+
+
+@pytest.mark.parametrize("task", ["blocksworld/delta/10/p3", "blocksworld/p2", "usar-fetch/p3"])
+def test_starved_knobs_change_no_frontier(task):
+    def pairs(*knobs: str):
+        solver = api.MegaSolver(
+            api.load_task_dir(ROOT / "domains" / task), options=Options().with_pairs(knobs)
+        )
+        fr = solver.frontier()
+        assert fr.exact
+        return [(p.size, p.robot_cost) for p in fr.points]
+
+    want = pairs()
+    for knobs in STARVED:
+        assert pairs(*knobs) == want, knobs
+
+
 def test_one_result_type_and_status_for_planner_calls():
     task = usar_like()
     solver = api.MegaSolver(task)

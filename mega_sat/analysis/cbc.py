@@ -1,5 +1,10 @@
 """CBC through PuLP, leaving nothing behind: no CBC process, no temporary files.
 
+CBC stopped by its time limit may write "Integer infeasible" into its solution file, which
+PuLP reports as ``LpStatusInfeasible``: a claim of infeasibility is taken as a proof only when
+the solve ended before the time limit could have stopped it (CBC counts elapsed time, and its
+clock starts after ours), else the status becomes ``LpStatusNotSolved``.
+
 PuLP runs CBC as a child process (``subprocess.Popen`` then ``wait()``) on ``*-pulp.mps`` and
 ``*-pulp.sol`` files in a shared temporary folder, and removes them only when CBC returns
 normally.  When an interrupt or the run's time limit unwinds through ``wait()``, CBC would run
@@ -15,6 +20,7 @@ import contextlib
 import os
 import signal
 import tempfile
+import time
 import warnings
 from pathlib import Path
 
@@ -28,14 +34,24 @@ def solve_cbc(prob, *, time_limit: float | None = None, **options) -> int:
         # PuLP 3.x announces API changes for 4.0 on every call; the calls below work in both
         warnings.simplefilter("ignore", DeprecationWarning)
         cmd = getattr(pulp, "PULP_CBC_CMD", None) or pulp.COIN_CMD
-        solver = cmd(msg=False, timeLimit=time_limit, keepFiles=False, **options)
+        solver = cmd(
+            msg=False, timeLimit=time_limit, timeMode="elapsed", keepFiles=False, **options
+        )
         with tempfile.TemporaryDirectory(prefix="mega-sat-cbc-") as tmp:
             solver.tmpDir = tmp
+            t0 = time.perf_counter()
             try:
-                return prob.solve(solver)
+                status = prob.solve(solver)
             except BaseException:
                 kill_children_using(tmp)
                 raise
+    if (
+        status == pulp.LpStatusInfeasible
+        and time_limit is not None
+        and time.perf_counter() - t0 >= time_limit
+    ):
+        prob.status = status = pulp.LpStatusNotSolved  # perhaps cut short: no proof
+    return status
 
 
 def kill_children_using(path: str) -> list[int]:
