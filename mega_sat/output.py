@@ -41,19 +41,24 @@ def check_target(path: str | Path, *, force: bool, folder: bool = False) -> Path
     """Refuse, before any work, a target that exists (unless ``force``) or whose parent folder
     cannot be written."""
     p = Path(path)
-    if p.exists() and not force and (not folder or p.is_file() or any(p.iterdir())):
-        raise UsageError(
-            f"{'folder' if folder else 'file'} exists (use --force to replace it)", path=str(p)
-        )
-    if p.exists() and folder and not p.is_dir():
-        raise UsageError("exists and is not a folder", path=str(p))
-    if p.exists() and not folder and p.is_dir():
-        raise UsageError("is a folder, expected a file", path=str(p))
+    if p.exists():
+        # what the target is comes first: a FIFO or a device is never replaced, not even
+        # with --force (that would turn /dev/... into a regular file)
+        if folder and not p.is_dir():
+            raise UsageError("exists and is not a folder", path=str(p))
+        if not folder and p.is_dir():
+            raise UsageError("is a folder, expected a file", path=str(p))
+        if not folder and not p.is_file():
+            raise UsageError("exists and is not a regular file", path=str(p))
+        if not force and (not folder or any(p.iterdir())):
+            raise UsageError(
+                f"{'folder' if folder else 'file'} exists (use --force to replace it)", path=str(p)
+            )
     parent = _existing_ancestor(p.parent)
     if not parent.is_dir():
         raise UsageError("is not a folder", path=str(parent))
     if not os.access(parent, os.W_OK | os.X_OK):
-        raise UsageError("folder is not writable", path=str(parent))
+        raise OutputError("folder is not writable", path=str(parent))
     return p
 
 
@@ -72,7 +77,10 @@ def write_file(path: str | Path, text: str | bytes, *, force: bool = False) -> P
         p.parent.mkdir(parents=True, exist_ok=True)
     except OSError as e:
         raise _io_error("create folder", p.parent, e) from None
-    fd, tmp = tempfile.mkstemp(dir=p.parent, prefix=f".{p.name}.", suffix=".tmp")
+    try:
+        fd, tmp = tempfile.mkstemp(dir=p.parent, prefix=f".{p.name}.", suffix=".tmp")
+    except OSError as e:  # a folder no file can be made in (/proc, immutable, read-only fs)
+        raise _io_error("write file", p, e) from None
     try:
         os.chmod(tmp, 0o666 & ~_umask())  # as open() would create it (mkstemp makes 0600)
         if isinstance(text, bytes):

@@ -339,3 +339,23 @@ def test_bench_runs_on_the_cluster(tmp_path, cluster):
     records = json.loads((tmp_path / "b" / "results.json").read_text())["records"]
     assert {x["engine"] for x in records} == {"astar", "sat"}
     assert all(x["status"] == "ok" for x in records)
+
+
+def test_a_results_file_that_cannot_be_opened_is_an_output_error(tmp_path, monkeypatch):
+    """``batch --out`` into a place no file can be made in: exit 74's error, no traceback."""
+    import builtins
+    import errno
+
+    from mega_sat.cli.batch import ResultsFile
+    from mega_sat.output import OutputError
+
+    real_open = builtins.open
+
+    def refuse(path, *a, **k):
+        if str(path).endswith("r.jsonl"):
+            raise OSError(errno.EROFS, os.strerror(errno.EROFS), str(path))
+        return real_open(path, *a, **k)
+
+    monkeypatch.setattr(builtins, "open", refuse)
+    with pytest.raises(OutputError, match="r.jsonl: cannot write file: Read-only file system"):
+        ResultsFile(tmp_path / "r.jsonl", [], restart=False)

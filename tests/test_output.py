@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import errno
 import os
+from pathlib import Path
 
 import pytest
 
@@ -178,3 +179,59 @@ def test_written_files_and_folders_follow_the_umask(tmp_path):
     assert (f.stat().st_mode & 0o777, b.stat().st_mode & 0o777) == (0o644, 0o644)
     assert (tmp_path / "out").stat().st_mode & 0o777 == 0o755
     assert (tmp_path / "out" / "a.txt").stat().st_mode & 0o777 == 0o644
+
+
+def test_special_files_are_never_targets(tmp_path):
+    """A FIFO (or a device) in place of an output is refused, with --force too: a folder
+    target once listed it (NotADirectoryError), a file target replaced it."""
+    fifo = tmp_path / "fifo"
+    os.mkfifo(fifo)
+    for force in (False, True):
+        with pytest.raises(UsageError, match="exists and is not a folder"):
+            OutputFolder(fifo, force=force)
+        with pytest.raises(UsageError, match="exists and is not a regular file"):
+            check_target(fifo, force=force)
+    assert fifo.exists() and not fifo.is_file()
+    (tmp_path / "afile").write_text("x")
+    with pytest.raises(UsageError, match="exists and is not a folder"):
+        OutputFolder(tmp_path / "afile")  # not "folder exists (use --force)" first
+    with pytest.raises(UsageError, match="is a folder, expected a file"):
+        check_target(tmp_path, force=False)
+
+
+def test_a_folder_no_file_can_be_made_in_is_an_output_error(tmp_path, monkeypatch):
+    """Where the permission check passes but no file can be created (/proc, an immutable
+    folder as root, a read-only file system): one error line and exit 74, no traceback."""
+    import tempfile
+
+    def refuse(*a, **k):
+        raise OSError(errno.EROFS, os.strerror(errno.EROFS))
+
+    monkeypatch.setattr(tempfile, "mkstemp", refuse)
+    with pytest.raises(OutputError, match="cannot write file: Read-only file system"):
+        write_file(tmp_path / "x.txt", "text")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_generate_checks_its_targets_first_and_reports_write_errors(tmp_path, monkeypatch):
+    import shutil
+
+    from mega_sat.bench.generate import write_instance
+
+    root = Path(__file__).resolve().parent.parent / "domains" / "usar-fetch"
+    args = (root / "robot-domain.pddl", root / "p1" / "robot-problem.pddl", 1, 0)
+    (tmp_path / "taken").mkdir()
+    (tmp_path / "taken" / "human-problem.pddl").write_text("x")
+    calls = []
+    monkeypatch.setattr("mega_sat.bench.generate.generate_human", lambda *a, **k: calls.append(a))
+    with pytest.raises(UsageError, match="human-problem.pddl: file exists"):
+        write_instance(*args, tmp_path / "taken")
+    assert calls == []  # refused before any draw
+    monkeypatch.undo()
+
+    def full(*a, **k):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(a[1]))
+
+    monkeypatch.setattr(shutil, "copyfile", full)
+    with pytest.raises(OutputError, match="robot-domain.pddl: cannot write: No space left"):
+        write_instance(*args, tmp_path / "new")

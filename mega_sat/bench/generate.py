@@ -181,26 +181,35 @@ def write_instance(
     import shutil
     from pathlib import Path
 
+    from mega_sat.output import OutputError, check_target
     from mega_sat.pddl.reader import read_model
     from mega_sat.pddl.writer import write_model
 
     robot = read_model(robot_domain, robot_problem)
-    g = generate_human(robot, k, seed, time_budget=time_budget)
     out = Path(out_dir)
     targets = [out / n for n in ("robot-domain.pddl", "robot-problem.pddl")]
-    for t in targets:
-        if t.exists() and not overwrite:
-            raise UsageError("file exists (use --force to overwrite)", path=str(t))
-    out.mkdir(parents=True, exist_ok=True)
-    write_model(
-        g.human,
-        out,
-        domain_file="human-domain.pddl",
-        problem_file="human-problem.pddl",
-        overwrite=overwrite,
-    )
-    shutil.copyfile(robot_domain, targets[0])
-    shutil.copyfile(robot_problem, targets[1])
+    for name in (
+        "robot-domain.pddl",
+        "robot-problem.pddl",
+        "human-domain.pddl",
+        "human-problem.pddl",
+    ):
+        check_target(out / name, force=overwrite)  # before the draws, not after
+    g = generate_human(robot, k, seed, time_budget=time_budget)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        write_model(
+            g.human,
+            out,
+            domain_file="human-domain.pddl",
+            problem_file="human-problem.pddl",
+            overwrite=overwrite,
+        )
+        shutil.copyfile(robot_domain, targets[0])
+        shutil.copyfile(robot_problem, targets[1])
+    except OSError as e:
+        where = e.filename if e.filename is not None else out
+        raise OutputError(f"cannot write: {e.strerror or e}", path=str(where)) from None
     return g
 
 

@@ -25,7 +25,7 @@ from pathlib import Path
 from typing import Any
 
 from mega_sat.errors import EXIT_TIMEOUT, UsageError
-from mega_sat.output import write_file
+from mega_sat.output import OutputError, write_file
 from mega_sat.pddl.loading import TASK_FILES, resolve_task_dir
 
 GRACE_S = 10.0
@@ -121,7 +121,10 @@ class ResultsFile:
         ):
             # a fresh start, or a cut-short last line to drop: rewrite atomically first
             write_file(out, "".join(line + "\n" for line in good_lines), force=True)
-        self._f = open(out, "a", encoding="utf-8")  # noqa: SIM115 - closed by close()
+        try:
+            self._f = open(out, "a", encoding="utf-8")  # noqa: SIM115 - closed by close()
+        except OSError as e:
+            raise OutputError(f"cannot write file: {e.strerror or e}", path=str(out)) from None
 
     def append(self, obj: dict[str, Any]) -> None:
         self._f.write(json.dumps(obj, separators=(",", ":")) + "\n")
