@@ -49,3 +49,39 @@ def test_val_agrees_with_simulate(data):
     val = val_validate(domain_to_pddl(model), problem_to_pddl(model), plan)
     assert val.valid == sim.valid, (sim.reason, val.message)
     assert val.cost == sim.cost
+
+
+@pytest.mark.parametrize(
+    ("plan", "why"),
+    [
+        ("(move p1)\n", "wrong number of arguments (expected 2, got 1)"),
+        ("(move p1 p6 p7)\n", "wrong number of arguments (expected 2, got 3)"),
+        ("(fly p1 p6)\n", "unknown action 'fly'"),
+    ],
+)
+def test_verify_does_not_hand_val_steps_it_cannot_read(plan, why, tmp_path):
+    """A step with too few arguments crashed VAL (SIGSEGV, so ``verify`` exited 4 without its
+    report); such steps now fail VAL's checks as "not run", and ``verify`` exits 1."""
+    from pathlib import Path
+
+    from click.testing import CliRunner
+
+    from mega_sat.cli.commands import main
+
+    root = Path(__file__).resolve().parent.parent
+    (tmp_path / "x.plan").write_text(plan)
+    res = CliRunner().invoke(
+        main,
+        [
+            "verify",
+            "--task",
+            str(root / "domains/usar-fetch/p1"),
+            "--plan",
+            str(tmp_path / "x.plan"),
+            "--explanation",
+            str(root / "docs/examples/usar-p1-low-alpha.explanation"),
+        ],
+    )
+    assert res.exit_code == 1, res.output
+    val_lines = [ln for ln in res.output.splitlines() if ln.startswith("FAIL VAL:")]
+    assert len(val_lines) == 2 and all("not run: step 1" in ln and why in ln for ln in val_lines)

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from mega_sat.deadline import Deadline
 from mega_sat.ground.family import GroundFamily
 from mega_sat.ground.simulate import simulate
-from mega_sat.model.lifted import PlanStep
+from mega_sat.model.lifted import PlanStep, step_str
 from mega_sat.model.task import TwoModelTask
 from mega_sat.options import DEFAULT, Options
 from mega_sat.status import Status
@@ -132,6 +132,21 @@ def checker_for(producer: str) -> str:
     return "builtin" if producer in ("sat", "portfolio") else "sat"
 
 
+def _not_an_action(model, plan) -> str | None:
+    """Why some step of ``plan`` names no action schema of ``model`` with its number of
+    arguments (``None`` when every step does)."""
+    for k, step in enumerate(plan, 1):
+        schema = model.schemas.get(step[0].lower())
+        if schema is None:
+            return f"step {k} {step_str(step)}: unknown action '{step[0].lower()}'"
+        if len(step) - 1 != len(schema.params):
+            return (
+                f"step {k} {step_str(step)}: wrong number of arguments (expected "
+                f"{len(schema.params)}, got {len(step) - 1})"
+            )
+    return None
+
+
 def verify_pair(
     task: TwoModelTask,
     family: GroundFamily,
@@ -221,6 +236,12 @@ def verify_pair(
             from mega_sat.planners.val import val_validate
 
             for label, model in (("robot model", task.robot), ("human + E", updated)):
+                bad = _not_an_action(model, plan)
+                if bad is not None:
+                    # VAL crashes (SIGSEGV) on a step with too few arguments, and says "goal
+                    # not satisfied" for too many: it is not asked about steps it cannot read
+                    checks.append(Check(f"VAL: valid in {label}", False, f"not run: {bad}"))
+                    continue
                 v = val_validate(
                     domain_to_pddl(model), problem_to_pddl(model), plan, deadline=deadline
                 )
