@@ -311,7 +311,7 @@ class MegaSolver:
         prod = producer or self.planner
         from mega_sat.engines.verify import checker_for
 
-        reuse = self.oracles if checker_for(prod) == "sat" else None
+        reuse = self.oracles if checker_for(prod, self.family) == "sat" else None
         report = verify_pair(
             self.task,
             self.family,
@@ -337,7 +337,7 @@ class MegaSolver:
                 self.family,
                 sel,
                 plan,
-                checker=checker_for(prod),
+                checker=checker_for(prod, self.family),
                 oracles=reuse,
                 deadline=self.deadline,
                 options=self.options,

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 from helpers.fuzzing import oracle_settings
 from helpers.pddl_tasks import pigeonhole
@@ -80,3 +82,51 @@ def test_time_limit_gives_timeout():
     r = fd_plan(*pigeonhole(14), time_limit=1)
     assert r.status == "timeout" and r.plan is None
     assert fd_plan(*pigeonhole(3)).status == "unsolvable"
+
+
+def _costly_usar(tmp_path, cost: int) -> Path:
+    """usar-fetch/p1 with ``move`` costing ``cost`` in both models."""
+    src = Path(__file__).resolve().parent.parent / "domains" / "usar-fetch"
+    for name in ("robot-domain.pddl", "human-domain.pddl"):
+        old = "(robot_at ?to) (increase (total-cost) 1)"
+        text = (
+            (src / name).read_text().replace(old, f"(robot_at ?to) (increase (total-cost) {cost})")
+        )
+        (tmp_path / name).write_text(text)
+    for name in ("robot-problem.pddl", "human-problem.pddl"):
+        (tmp_path / name).write_text((src / "p1" / name).read_text())
+    return tmp_path
+
+
+def test_costs_fd_cannot_sum_are_kept_from_it(tmp_path):
+    """Fast Downward (and VAL) add costs in 32-bit integers: a chosen --planner fd is refused
+    up front (it failed with exit 4, or could overflow silently), the verify checker falls back
+    to the built-in planner, and VAL's wrapped-around cost is not compared."""
+    from click.testing import CliRunner
+
+    from mega_sat import api
+    from mega_sat.cli.commands import main
+    from mega_sat.engines.verify import checker_for
+    from mega_sat.errors import UsageError
+    from mega_sat.planners.fast_downward import FD_INT_LIMIT, fd_cost_problem
+
+    assert fd_cost_problem(1000, 1000) is None and fd_cost_problem(FD_INT_LIMIT, 0) is not None
+    task = _costly_usar(tmp_path, 3_000_000_000)
+    solver = api.MegaSolver(api.load_task_dir(task))
+    assert solver.family.max_cost == 3_000_000_000
+    assert checker_for("portfolio", solver.family) != "fd"
+    if fd_available():
+        with pytest.raises(UsageError, match="may overflow Fast Downward's 32-bit cost sums"):
+            api.MegaSolver(api.load_task_dir(task), planner="fd").frontier()
+    res = CliRunner().invoke(main, ["solve", "--task", str(task), "--alpha", "0", "--verify"])
+    assert res.exit_code == 0, res.output
+    assert "verify: passed" in res.output and "by fd" not in res.output
+    from mega_sat.planners.val import val_available
+
+    if val_available():
+        assert "is beyond VAL's range" in res.output  # the plan's 3 moves wrap VAL's sum
+    small = api.MegaSolver(
+        api.load_task_dir(Path(__file__).resolve().parent.parent / "domains/usar-fetch/p1")
+    )
+    if fd_available():
+        assert checker_for("portfolio", small.family) == "fd"

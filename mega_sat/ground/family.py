@@ -141,6 +141,17 @@ class GroundFamily:
         """Smallest cost any action has in any model of the family (the horizon argument)."""
         return min((v for a in self.actions for _, v in a.cost), default=1)
 
+    @cached_property
+    def max_cost(self) -> int:
+        """Largest cost any action has in any model of the family."""
+        return max((v for a in self.actions for _, v in a.cost), default=0)
+
+    def fd_cost_problem(self) -> str | None:
+        """Why Fast Downward cannot take this family's costs (``None``: it can)."""
+        from mega_sat.planners.fast_downward import fd_cost_problem
+
+        return fd_cost_problem(self.max_cost, len(self.actions))
+
     def specialize(self, selection: Iterable[int]) -> GroundTask:
         """The ground task of ``human + selection``."""
         sel = frozenset(selection)

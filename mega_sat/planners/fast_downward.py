@@ -53,6 +53,24 @@ def fd_available() -> bool:
     return fd_script() is not None
 
 
+FD_INT_LIMIT = 2**29
+"""Fast Downward adds costs in 32-bit integers without overflow checks.  With every action
+cost at most ``c`` and ``n`` ground actions, A* with LM-cut meets g-values up to ``C* + c``
+and heuristic values up to ``n * c`` (LM-cut is a cost partitioning over the actions), so a
+task goes to FD only when ``c * (n + 1) < FD_INT_LIMIT`` (:func:`fd_cost_problem`), and an
+answer is kept only when ``C* < FD_INT_LIMIT``: every f-value then stays below 2^31."""
+
+
+def fd_cost_problem(max_cost: int, n_actions: int) -> str | None:
+    """Why Fast Downward cannot be trusted with these costs (``None``: it can)."""
+    if max_cost * (n_actions + 1) < FD_INT_LIMIT:
+        return None
+    return (
+        f"action costs up to {max_cost} over {n_actions} ground actions may overflow Fast "
+        "Downward's 32-bit cost sums"
+    )
+
+
 def parse_plan_text(text: str) -> tuple[tuple[PlanStep, ...], int | None]:
     """Steps (lower-case) and the ``; cost = N`` value of a plan file in FD/IPC format."""
     steps: list[PlanStep] = []
@@ -185,6 +203,11 @@ class FdRun:
                 steps, cost = parse_plan_text(Path(self._plan_file).read_text())
                 if cost is None:
                     raise PlannerError("Fast Downward's plan file has no '; cost = N' line")
+                if cost >= FD_INT_LIMIT:
+                    raise PlannerError(
+                        f"Fast Downward's plan costs {cost}, beyond the range in which its "
+                        "32-bit cost sums are exact"
+                    )
                 return self._answer(Status.OPTIMAL, steps, cost)
             if rc in _UNSOLVABLE:
                 return self._answer(Status.UNSOLVABLE)

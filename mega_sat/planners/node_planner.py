@@ -109,6 +109,9 @@ class NodePlanner:
 
             if not fd_available():
                 raise UsageError("planner 'fd' needs Fast Downward: pip install 'mega-sat[fd]'")
+            problem = family.fd_cost_problem()
+            if problem is not None:
+                raise UsageError(f"planner 'fd': {problem}; use --planner builtin or sat")
         self.task, self.family, self.kind = task, family, kind
         self.time_limit = time_limit
         self.deadline = deadline if deadline is not None else NO_DEADLINE
@@ -388,7 +391,7 @@ class NodePlanner:
         if self._has_fd is None:
             from mega_sat.planners.fast_downward import fd_available
 
-            self._has_fd = fd_available()
+            self._has_fd = fd_available() and self.family.fd_cost_problem() is None
         return self._has_fd
 
     def _race(self, sel: frozenset[int], task: GroundTask, call: Deadline, t0: float) -> PlanResult:
