@@ -288,7 +288,7 @@ def check_alpha(alpha: object) -> float:
         a = float("nan")
     if not 0 <= a < float("inf"):
         raise UsageError(f"alpha must be a finite number >= 0, got {alpha!r}")
-    return a
+    return a + 0.0  # -0.0 becomes 0.0, so it is not echoed as "-0.0"
 
 
 def exact_alpha(alpha: float) -> Fraction:

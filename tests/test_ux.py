@@ -325,3 +325,51 @@ def test_plot_is_skipped_after_a_stop(tmp_path):
     fr = api.frontier(api.load_task_dir(BLOCKS))
     assert _plot(run, fr, tmp_path / "f.png", False, "t") == ["--plot skipped: the run was stopped"]
     assert not (tmp_path / "f.png").exists()
+
+
+def _error_line(res) -> str:
+    lines = [ln for ln in res.stderr.splitlines() if ln.strip()]
+    assert res.exit_code == 2 and len(lines) == 1 and "Traceback" not in res.stderr, res.output
+    return lines[0]
+
+
+def test_errors_name_the_file_they_are_about(tmp_path):
+    """A plan file `explain` cannot run, and a cost term the problem does not define, are
+    reported with the file's name."""
+    plan = tmp_path / "fly.plan"
+    plan.write_text("(fly p1 p6)\n")
+    line = _error_line(run("explain", "--task", USAR, "--plan", plan))
+    assert line == (
+        f"error: {plan}: the plan is not executable in the robot model: "
+        "step 1 (fly p1 p6): unknown action 'fly'"
+    )
+    domain = (ROOT / "domains/usar-fetch/robot-domain.pddl").read_text()
+    domain = domain.replace(
+        "(:functions (total-cost) - number)", "(:functions (total-cost) (dist ?a ?b) - number)"
+    )
+    domain = domain.replace(
+        "(robot_at ?to) (increase (total-cost) 1)",
+        "(robot_at ?to) (increase (total-cost) (dist ?from ?to))",
+    )
+    (tmp_path / "d.pddl").write_text(domain)
+    problem = USAR / "robot-problem.pddl"
+    line = _error_line(
+        run("solve", "--robot-domain", tmp_path / "d.pddl", "--robot-problem", problem,
+            "--human-domain", tmp_path / "d.pddl", "--alpha", "1")
+    )  # fmt: skip
+    assert line.startswith(f"error: {problem}: cost function value (dist ")
+    assert "is not defined in the problem" in line
+
+
+def test_small_input_slips(tmp_path):
+    """``--alpha -0`` is echoed as 0 (not -0.0); ``generate --time-budget nan`` is refused
+    like ``--timeout nan``."""
+    res = run("solve", "--task", USAR, "--alpha", "-0", "--json")
+    assert res.exit_code == 0 and json.loads(res.stdout)["alpha"] == 0.0
+    assert '"alpha": 0.0' in res.stdout
+    line = _error_line(
+        run("generate", "--robot-domain", ROOT / "domains/usar-fetch/robot-domain.pddl",
+            "--robot-problem", USAR / "robot-problem.pddl", "--delta", "1",
+            "--out", tmp_path / "g", "--time-budget", "nan")
+    )  # fmt: skip
+    assert line == "error: --time-budget must be a number of seconds >= 0, got nan"

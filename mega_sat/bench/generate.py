@@ -118,6 +118,8 @@ def generate_human(
 
     if k < 0:
         raise UsageError(f"--delta must be >= 0, got {k}")
+    if not time_budget >= 0:  # nan too: it compares false with everything
+        raise UsageError(f"--time-budget must be a number of seconds >= 0, got {time_budget}")
     rt = ground_model(robot)
     r = solve_optimal(rt, time_limit=time_limit)
     if r.status == "unsolvable":

@@ -409,6 +409,14 @@ def explain(
     options = _options(kw)
     task = _task_from(kw)
     steps = read_plan(plan_file) if plan_file else None
+    if steps is not None:
+        from mega_sat.ground.simulate import simulate
+
+        sim = simulate(task.robot, steps)
+        if not sim.valid:  # here, where the file is known, rather than in the engine
+            raise UsageError(
+                f"the plan is not executable in the robot model: {sim.reason}", path=plan_file
+            )
     s = MegaSolver(
         task,
         planner=planner,

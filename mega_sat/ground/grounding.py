@@ -342,7 +342,11 @@ def _eval_cost(
     term = tuple(binding.get(x, x) for x in cost)
     rv, hv = task.robot.functions.get(term), task.human.functions.get(term)
     if rv is None and hv is None:
-        raise PDDLError(f"cost function value {atom_pddl(term)} is not defined in the problem")
+        raise PDDLError(
+            f"cost function value {atom_pddl(term)} is not defined in the problem "
+            "(its :init needs (= " + atom_pddl(term) + " N))",
+            path=task.sources.get("robot_problem"),
+        )
     if rv is None or hv is None or rv == hv:
         v = rv if rv is not None else hv
         assert v is not None
