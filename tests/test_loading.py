@@ -110,6 +110,12 @@ def test_task_dir_errors(tmp_path):
     with pytest.raises(UsageError) as info:
         resolve_task_dir(tmp_path / "absent")
     assert str(info.value) == f"{tmp_path / 'absent'}: task directory not found"
+    (tmp_path / "a-file").write_text("x")
+    with pytest.raises(UsageError) as info:
+        resolve_task_dir(tmp_path / "a-file")
+    assert str(info.value) == (
+        f"{tmp_path / 'a-file'}: is not a folder (--task takes a task folder)"
+    )
 
     task_dir = tmp_path / "p1"
     task_dir.mkdir()

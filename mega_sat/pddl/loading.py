@@ -130,7 +130,12 @@ def resolve_task_dir(d: str | Path) -> dict[str, Path]:
     """
     task_dir = Path(d)
     if not task_dir.is_dir():
-        raise UsageError("task directory not found", path=str(task_dir))
+        raise UsageError(
+            "is not a folder (--task takes a task folder)"
+            if task_dir.exists()
+            else "task directory not found",
+            path=str(task_dir),
+        )
     if any(c.is_dir() and re.fullmatch(r"human-\d+", c.name) for c in task_dir.iterdir()):
         # several human models: loading one of them here would silently drop the others
         raise UsageError(

@@ -223,7 +223,12 @@ def resolve_multi_task_dir(task_dir: str | Path) -> dict:
     ``(domain, problem)``)."""
     d = Path(task_dir)
     if not d.is_dir():
-        raise UsageError("task directory not found", path=str(d))
+        raise UsageError(
+            "is not a folder (--task takes a task folder)"
+            if d.exists()
+            else "task directory not found",
+            path=str(d),
+        )
     dirs = human_dirs(d)
     if not dirs:
         raise UsageError("no human-1/, human-2/, ... folders in the task directory", path=str(d))
