@@ -254,6 +254,14 @@ def test_object_declared_with_two_types():
         parse_model(dom, prob)
 
 
+def test_object_declared_twice_names_its_line():
+    """The PDDL library's own message had no line ("duplicate name ... already inherits")."""
+    dom = (DATA / "typed-domain.pddl").read_text()
+    prob = (DATA / "typed-problem.pddl").read_text().replace("a b - place", "a b a - place")
+    with pytest.raises(PDDLError, match=r"p.pddl: line 3: object 'a' is declared twice"):
+        parse_model(dom, prob, domain_path="d.pddl", problem_path="p.pddl")
+
+
 def test_cost_function_values_must_be_non_negative_integers():
     dom = (DATA / "cost-domain.pddl").read_text()
     prob = (DATA / "cost-problem.pddl").read_text().replace("a b) 3)", "a b) 3.5)")
@@ -299,18 +307,18 @@ def test_a_valid_file_is_parsed_once(monkeypatch):
     assert parsed == ["domain", "problem"] and m.domain_name == "typed-logistics"
 
 
-def test_library_error_before_a_syntax_error_comes_first():
-    # the library transforms each rule as the parser completes it: its error on the duplicate
-    # object precedes the syntax error of the metric placed before the goal
+def test_a_duplicate_before_a_syntax_error_comes_first():
+    # the duplicate object is reported where it is (once the library's own error, without a
+    # line), before the syntax error of the metric placed before the goal
     dom = (
         "(define (domain d) (:requirements :action-costs) (:predicates (p ?x))"
         " (:functions (total-cost) - number) (:action a :parameters (?x) :effect (p ?x)))"
     )
     prob = "(define (problem q) (:domain d) (:objects o o) (:init) (:goal (p o)))"
-    with pytest.raises(PDDLError, match=r"^p\.pddl: invalid PDDL: .*duplicate name 'o'"):
+    with pytest.raises(PDDLError, match=r"^p\.pddl: line 1: object 'o' is declared twice"):
         parse_model(dom, prob, problem_path="p.pddl")
     late = prob.replace("(:goal", "(:metric minimize (total-cost)) (:goal")
-    with pytest.raises(PDDLError, match=r"^p\.pddl: invalid PDDL: .*duplicate name 'o'"):
+    with pytest.raises(PDDLError, match=r"^p\.pddl: line 1: object 'o' is declared twice"):
         parse_model(dom, late, problem_path="p.pddl")
     with pytest.raises(PDDLError, match=r"^p\.pddl: line 1: syntax error: unexpected ':metric'"):
         parse_model(dom, late.replace("o o)", "o)"), problem_path="p.pddl")

@@ -47,8 +47,12 @@ class ProblemChecker(Checker):
                 self.requirements(node)
                 drop.append(node)
             elif key == ":objects":
+                listed: set[str] = set()
                 for tok, typ in self.typed_list(node.items[1:], ":objects"):
                     self.check_type(typ, info.types, tok, ":objects")
+                    if tok.text in listed and objects[tok.text] == typ:
+                        raise self.fail(f"object '{tok.text}' is declared twice", tok)
+                    listed.add(tok.text)
                     if objects.get(tok.text, typ) != typ:
                         raise self.fail(
                             f"object '{tok.text}' is declared with two types "
