@@ -105,9 +105,9 @@ def generate_human(
 ) -> Generated:
     """A human model with ``|Delta| == k`` against ``robot``, both problems solvable.
 
-    ``time_limit`` bounds each planner call, ``time_budget`` the whole search over draws (a
-    large ``k`` makes most draws unsolvable, and 200 draws at 30 s each would look like a
-    hang).
+    ``time_limit`` bounds each planner call, ``time_budget`` the whole generation, the robot's
+    own optimal plan included (a large ``k`` makes most draws unsolvable, and 200 draws at 30 s
+    each would look like a hang).
 
     A candidate ``Update(f, True)`` above means "the robot has f and the human will not"
     (a removal from the human's view); ``Update(f, False)`` "the human will believe f".
@@ -120,13 +120,21 @@ def generate_human(
         raise UsageError(f"--delta must be >= 0, got {k}")
     if not time_budget >= 0:  # nan too: it compares false with everything
         raise UsageError(f"--time-budget must be a number of seconds >= 0, got {time_budget}")
+    # the budget covers the robot's own plan too: a user who gave 5 s waits about 5 s
+    deadline = time.perf_counter() + time_budget
     rt = ground_model(robot)
-    r = solve_optimal(rt, time_limit=time_limit)
+    limit = max(0.0, min(time_limit, deadline - time.perf_counter()))
+    r = solve_optimal(rt, time_limit=limit)
     if r.status == "unsolvable":
         raise UnsolvableError("the robot problem has no plan; nothing to generate from")
+    if r.status != "optimal" and limit < time_limit:
+        raise UsageError(
+            f"no solvable human model with |Delta| = {k} found within {time_budget:g}s (the "
+            f"robot problem's optimal plan was still being searched; seed {seed})"
+        )
     if r.status != "optimal":
         raise UsageError(
-            f"no plan of the robot problem found within {time_limit:g}s; "
+            f"no plan of the robot problem found within {limit:g}s; "
             "cannot check that generated models stay solvable"
         )
     reachable = frozenset(rt.atoms)
@@ -136,7 +144,6 @@ def generate_human(
             f"the robot model offers only {len(cands)} features to flip; --delta {k} is too large"
         )
     rng = random.Random(seed)
-    deadline = time.perf_counter() + time_budget
     for attempt in range(1, max_attempts + 1):
         left = deadline - time.perf_counter()
         if left <= 0:
