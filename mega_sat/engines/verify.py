@@ -130,9 +130,9 @@ def checker_for(producer: str, family: GroundFamily | None = None) -> str:
     them.)"""
     if producer == "fd":
         return "builtin"
-    from mega_sat.planners.fast_downward import fd_available
+    from mega_sat.planners.fast_downward import family_cost_problem, fd_available
 
-    if fd_available() and (family is None or family.fd_cost_problem() is None):
+    if fd_available() and (family is None or family_cost_problem(family) is None):
         return "fd"
     return "builtin" if producer in ("sat", "portfolio") else "sat"
 

@@ -146,12 +146,6 @@ class GroundFamily:
         """Largest cost any action has in any model of the family."""
         return max((v for a in self.actions for _, v in a.cost), default=0)
 
-    def fd_cost_problem(self) -> str | None:
-        """Why Fast Downward cannot take this family's costs (``None``: it can)."""
-        from mega_sat.planners.fast_downward import fd_cost_problem
-
-        return fd_cost_problem(self.max_cost, len(self.actions))
-
     def specialize(self, selection: Iterable[int]) -> GroundTask:
         """The ground task of ``human + selection``."""
         sel = frozenset(selection)

@@ -61,6 +61,12 @@ task goes to FD only when ``c * (n + 1) < FD_INT_LIMIT`` (:func:`fd_cost_problem
 answer is kept only when ``C* < FD_INT_LIMIT``: every f-value then stays below 2^31."""
 
 
+def family_cost_problem(family) -> str | None:
+    """:func:`fd_cost_problem` of a :class:`~mega_sat.ground.family.GroundFamily`: its
+    largest cost in any model, over all its ground actions."""
+    return fd_cost_problem(family.max_cost, len(family.actions))
+
+
 def fd_cost_problem(max_cost: int, n_actions: int) -> str | None:
     """Why Fast Downward cannot be trusted with these costs (``None``: it can)."""
     if max_cost * (n_actions + 1) < FD_INT_LIMIT:

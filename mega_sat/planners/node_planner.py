@@ -105,11 +105,11 @@ class NodePlanner:
         if kind not in PLANNERS:
             raise UsageError(f"unknown planner {kind!r} (choose from {', '.join(PLANNERS)})")
         if kind == "fd":
-            from mega_sat.planners.fast_downward import fd_available
+            from mega_sat.planners.fast_downward import family_cost_problem, fd_available
 
             if not fd_available():
                 raise UsageError("planner 'fd' needs Fast Downward: pip install 'mega-sat[fd]'")
-            problem = family.fd_cost_problem()
+            problem = family_cost_problem(family)
             if problem is not None:
                 raise UsageError(f"planner 'fd': {problem}; use --planner builtin or sat")
         self.task, self.family, self.kind = task, family, kind
@@ -389,9 +389,9 @@ class NodePlanner:
 
     def _fd_installed(self) -> bool:
         if self._has_fd is None:
-            from mega_sat.planners.fast_downward import fd_available
+            from mega_sat.planners.fast_downward import family_cost_problem, fd_available
 
-            self._has_fd = fd_available() and self.family.fd_cost_problem() is None
+            self._has_fd = fd_available() and family_cost_problem(self.family) is None
         return self._has_fd
 
     def _race(self, sel: frozenset[int], task: GroundTask, call: Deadline, t0: float) -> PlanResult:
