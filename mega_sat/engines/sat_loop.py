@@ -359,6 +359,8 @@ def sat_frontier(
                                 known.lower,
                                 cap=options.joint_before_opt_conflicts,
                             )
+                            if r is not None and joint == "portfolio" and not r.exact:
+                                r = None  # no proof: OPT, then the portfolio's search, answer
                             if r is not None and r.status.decided and r.plan is None:
                                 # no joint plan within a known plan's cost: no OPT needed
                                 stats["joint_before_opt_cores"] += 1
@@ -430,7 +432,14 @@ def sat_frontier(
                     # pi* is a witness if the robot can run it within K; c_robot and (when
                     # costs allow) c* are proven lower bounds that spare the final UNSAT call
                     res = joint_of(sel, opt.cost, opt.plan, opt.cost if opt.exact else None)
-                if res is None or not res.status.decided:
+                # the portfolio's search also answers when SAT's answer is no proof (zero-cost
+                # actions: its horizon does not bound plan length), so nothing unproven is
+                # learned or reported
+                if (
+                    res is None
+                    or not res.status.decided
+                    or (joint == "portfolio" and not res.exact)
+                ):
                     stats["joint_searches"] += 1
                     stats["joint_calls"] += res is None  # else counted with its SAT attempt
                     t_search = time.perf_counter()
