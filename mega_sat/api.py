@@ -299,7 +299,14 @@ class MegaSolver:
                     "verify takes a FrontierPoint or an Explanation (or explanation= and "
                     f"plan=), got {type(point).__name__}"
                 )
-            sel, plan = point.selection, point.plan
+            if explanation is not None or plan is not None:
+                raise UsageError(
+                    "verify takes a point or explanation= and plan=, not both (the point "
+                    "carries its own explanation and plan)"
+                )
+            from mega_sat.engines.verify import point_selection
+
+            sel, plan = point_selection(self.task, point), point.plan
             rc, hc = point.robot_cost, point.human_cost
             reported = point.weighted_cost
         else:

@@ -8,6 +8,8 @@ proven).  ``MegaSolver(options=Options(...))`` and ``mega-sat ... --option key=v
 from __future__ import annotations
 
 import dataclasses
+import math
+import numbers
 from collections.abc import Iterable
 from dataclasses import dataclass, field, fields
 
@@ -410,6 +412,29 @@ class Options:
             "doc": "most strict supersets of an MME that verification re-plans, else skipped"
         },
     )
+
+    def __post_init__(self) -> None:
+        """The checks ``--option`` makes, for ``Options(...)`` in code too: a knob changes how
+        fast an answer comes, never which, and a value such as ``nan`` (a time limit no call
+        can reach or exceed) or a string would break that deep inside a run."""
+        for f in fields(self):
+            v = getattr(self, f.name)
+            if f.type == "bool":
+                if not isinstance(v, bool):
+                    raise UsageError(f"option {f.name}={v!r}: expected True or False")
+                continue
+            zero_ok = bool(f.metadata.get("zero"))
+            kind = numbers.Integral if f.type == "int" else numbers.Real
+            if (
+                not isinstance(v, kind)
+                or isinstance(v, bool)
+                or not math.isfinite(v)
+                or not (v > 0 or (zero_ok and v == 0))
+            ):
+                what = "an integer" if f.type == "int" else "a finite number"
+                raise UsageError(
+                    f"option {f.name}={v!r}: expected {what} " + (">= 0" if zero_ok else "> 0")
+                )
 
     @classmethod
     def docs(cls) -> list[tuple[str, str, str]]:

@@ -337,3 +337,31 @@ def test_zero_cost_joint_answers_are_proven_by_search():
     assert fr.robot_optimal_cost == 1
     assert [(p.size, p.robot_cost) for p in fr.points] == [(0, 10), (1, 1)]
     assert fr.exact and fr.complete and fr.stats["joint_searches"] >= 1
+
+
+ROOMS = """(define (domain rooms) (:requirements :strips :action-costs)
+  (:predicates (at ?r) (door ?a ?b) (lit ?r))
+  (:functions (total-cost))
+  (:action go :parameters (?a ?b) :precondition (and (at ?a) (door ?a ?b) EXTRA)
+    :effect (and (not (at ?a)) (at ?b) (increase (total-cost) 1))))"""
+ROOMS_PROBLEM = """(define (problem rooms-1) (:domain rooms) (:objects r1 r2 r3 r4 r5)
+  (:init (at r1) (door r1 r2) (door r2 r4) (door r1 r3) (door r3 r5) (door r5 r4)
+         (lit r3) (lit r4) (lit r5))
+  (:goal (at r4)))"""
+
+
+def test_verify_refuses_a_point_of_another_task():
+    """A point's selection indexes its own task's model difference: checked against another
+    task it once passed as "ok" with some other explanation (found by an API sweep)."""
+    from mega_sat import api
+    from mega_sat.errors import UsageError
+
+    robot = ROOMS.replace("EXTRA", "")
+    task_a = api.load_task_from_strings(robot, ROOMS_PROBLEM, ROOMS.replace("EXTRA", "(lit ?b)"))
+    task_b = api.load_task_from_strings(robot, ROOMS_PROBLEM, ROOMS.replace("EXTRA", "(lit ?a)"))
+    point = api.frontier(task_a).points[-1]
+    assert point.explanation and api.verify(task_a, point).ok
+    with pytest.raises(UsageError, match="is it from another task"):
+        api.verify(task_b, point)
+    with pytest.raises(UsageError, match="not both"):
+        api.MegaSolver(task_a).verify(point, plan=[("go", "r1", "r2")])

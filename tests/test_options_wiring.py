@@ -183,3 +183,27 @@ def test_mce_out_of_time_is_a_time_limit_not_bad_input(monkeypatch):
         minimal_explanation(task, fam, plan, deadline=Deadline())
     with pytest.raises(TimeLimitReached):
         minimal_explanation(task, fam, plan, deadline=_ExpiresSoon())
+
+
+@pytest.mark.parametrize(
+    "knob",
+    [
+        {"counting_time_limit": float("nan")},
+        {"counting_time_limit": float("inf")},
+        {"quick_nodes": "x"},
+        {"horizon_cap": -1},
+        {"horizon_cap": 2.5},
+        {"quick_nodes": 0},
+        {"step_first": "no"},
+        {"step_first": 1},
+    ],
+)
+def test_options_in_code_are_checked_like_the_cli_option(knob):
+    """``Options(...)`` refuses what ``--option`` refuses: a nan time limit once made CBC's
+    cut-short "infeasible" count as a proof (usar-fetch/p1 lost its point (3, 4), exact)."""
+    with pytest.raises(UsageError, match=f"option {next(iter(knob))}="):
+        Options(**knob)
+
+
+def test_zero_is_kept_for_the_knobs_that_take_it():
+    assert Options(race_fd_after_work=0, plan_below_robot_nodes=0).race_fd_after_work == 0

@@ -453,7 +453,11 @@ class MultiHumanSolver:
         if point is not None:
             if not isinstance(point, FrontierPoint):
                 raise UsageError(f"verify takes a FrontierPoint, got {type(point).__name__}")
-            sel, steps = point.selection, point.plan
+            if explanation is not None or plan is not None:
+                raise UsageError("verify takes a point or explanation= and plan=, not both")
+            from mega_sat.engines.verify import point_selection
+
+            sel, steps = point_selection(self.task, point), point.plan
             rc = point.robot_cost
             hcs = getattr(point, "human_costs", None) or None
             reported = point.weighted_cost

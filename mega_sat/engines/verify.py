@@ -117,6 +117,24 @@ def verify_supersets(
     return Check(SUPERSETS, True, f"{many}, optima by {checker}")
 
 
+def point_selection(task, point) -> frozenset[int]:
+    """``point.selection``, once it is known to name the same updates of ``task``'s model
+    difference as ``point.explanation`` (a point of another task indexes another one, and
+    checking its indices here would check some other explanation)."""
+    from mega_sat.errors import UsageError
+
+    sel = point.selection
+    names = None
+    if all(0 <= i < len(task.delta) for i in sel):
+        names = sorted(task.names(sel))
+    if names != sorted(point.explanation):
+        raise UsageError(
+            "the point's explanation is not the same updates of this task's model "
+            f"difference: {list(point.explanation)} (is it from another task?)"
+        )
+    return sel
+
+
 VAL_INT_LIMIT = 2**31
 """VAL adds costs in 32-bit integers: a plan costing this much or more wraps around."""
 
