@@ -225,10 +225,11 @@ class MegaSolver:
     def partial_solution(self, alpha: float, reason: str) -> Solution | None:
         """:meth:`solve`'s answer among the points proven so far (see
         :meth:`partial_frontier`); ``None`` without any point."""
+        alpha = _check_alpha(alpha)  # a bad alpha is refused even with nothing to choose from
         fr = self.partial_frontier(reason)
         if fr is None or not fr.points:
             return None
-        return choose(fr, _check_alpha(alpha))
+        return choose(fr, alpha)
 
     def solve(self, alpha: float) -> Solution:
         """MEGA's answer for one alpha.
@@ -293,6 +294,9 @@ class MegaSolver:
         the report states cost(E), and checks a point's reported cost).  An
         MME's check also covers every strict superset of ``E`` (when there are at most
         :data:`~mega_sat.engines.verify.SUPERSET_CHECK_LIMIT`; otherwise it is listed as skipped)."""
+        from mega_sat.engines.verify import check_verify_arguments
+
+        check_verify_arguments(producer, use_val)
         if point is not None:
             if not isinstance(point, FrontierPoint | Explanation):
                 raise UsageError(

@@ -284,7 +284,9 @@ def check_alpha(alpha: object) -> float:
 
     try:
         a = float(alpha)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):  # OverflowError: an int such as 10**400
+        a = float("nan")
+    if isinstance(alpha, bool | bytes):  # float(True) is 1.0, float(b"1") is 1.0: slips
         a = float("nan")
     if not 0 <= a < float("inf"):
         raise UsageError(f"alpha must be a finite number >= 0, got {alpha!r}")

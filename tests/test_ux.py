@@ -373,3 +373,29 @@ def test_small_input_slips(tmp_path):
             "--out", tmp_path / "g", "--time-budget", "nan")
     )  # fmt: skip
     assert line == "error: --time-budget must be a number of seconds >= 0, got nan"
+
+
+def test_library_slips_are_usage_errors():
+    """Wrong values given in code are one clear UsageError each, not a TypeError or an
+    AttributeError from deep inside (found by an API sweep)."""
+    from mega_sat.pddl.update_costs import load_update_costs
+
+    task = api.load_task_dir(USAR)
+    for alpha in (True, b"0.1", 10**400):
+        with pytest.raises(UsageError, match="alpha must be a finite number >= 0"):
+            api.solve(task, alpha)
+    for bad in (None, 5, b"domains/usar-fetch/p1", ""):
+        with pytest.raises(UsageError, match="task folder: expected a path"):
+            api.load_task_dir(bad)
+    with pytest.raises(UsageError, match="update costs file: expected a path"):
+        load_update_costs(None)
+    with pytest.raises(UsageError, match="deadline must be a mega_sat.deadline.Deadline"):
+        api.MegaSolver(task, deadline=5)
+    s = api.MegaSolver(task)
+    with pytest.raises(UsageError, match="alpha must be"):
+        s.partial_solution(-1, "stopped")  # checked before looking for points
+    point = s.frontier().points[0]
+    with pytest.raises(UsageError, match="unknown producer 'FD'"):
+        s.verify(point, producer="FD")
+    with pytest.raises(UsageError, match="use_val must be True or False"):
+        s.verify(point, use_val="no")

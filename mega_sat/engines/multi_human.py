@@ -432,10 +432,11 @@ class MultiHumanSolver:
         )
 
     def partial_solution(self, alpha: float, reason: str) -> Solution | None:
+        alpha = check_alpha(alpha)
         fr = self.partial_frontier(reason)
         if fr is None or not fr.points:
             return None
-        return choose(fr, check_alpha(alpha))
+        return choose(fr, alpha)
 
     def verify(
         self,
@@ -448,7 +449,10 @@ class MultiHumanSolver:
     ) -> VerifyReport:
         """Check a pair in the robot model and in every ``human_i + E`` (see
         :func:`verify_multi`)."""
+        from mega_sat.engines.verify import check_verify_arguments
         from mega_sat.pddl.planio import as_plan
+
+        check_verify_arguments(producer, use_val)
 
         if point is not None:
             if not isinstance(point, FrontierPoint):

@@ -117,6 +117,18 @@ def verify_supersets(
     return Check(SUPERSETS, True, f"{many}, optima by {checker}")
 
 
+def check_verify_arguments(producer: object, use_val: object) -> None:
+    """``producer`` names a planner (the checker must be another one) and ``use_val`` is a
+    bool: "FD" or "no" would quietly check an answer with its own planner, or run VAL."""
+    from mega_sat.errors import UsageError
+    from mega_sat.planners.node_planner import PLANNERS
+
+    if producer is not None and producer not in PLANNERS:
+        raise UsageError(f"unknown producer {producer!r} (choose from {', '.join(PLANNERS)})")
+    if not isinstance(use_val, bool):
+        raise UsageError(f"use_val must be True or False, got {use_val!r}")
+
+
 def point_selection(task, point) -> frozenset[int]:
     """``point.selection``, once it is known to name the same updates of ``task``'s model
     difference as ``point.explanation`` (a point of another task indexes another one, and

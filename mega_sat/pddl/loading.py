@@ -128,7 +128,9 @@ def resolve_task_dir(d: str | Path) -> dict[str, Path]:
     robot problem); the two domain files are looked for in ``DIR`` and then in its parent, so
     several problems can share one pair of domains.
     """
-    task_dir = Path(d)
+    from mega_sat.pddl.reader import as_path
+
+    task_dir = as_path(d, "task folder")
     if not task_dir.is_dir():
         raise UsageError(
             "is not a folder (--task takes a task folder)"

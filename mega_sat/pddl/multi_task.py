@@ -221,7 +221,9 @@ def resolve_multi_task_dir(task_dir: str | Path) -> dict:
     (so human models that share a domain name it once).  The folders are numbered 1, 2, ...
     without gaps.  Returns ``robot_domain``, ``robot_problem`` and ``humans`` (a list of
     ``(domain, problem)``)."""
-    d = Path(task_dir)
+    from mega_sat.pddl.reader import as_path
+
+    d = as_path(task_dir, "task folder")
     if not d.is_dir():
         raise UsageError(
             "is not a folder (--task takes a task folder)"

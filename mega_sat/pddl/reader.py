@@ -90,10 +90,24 @@ def parse_model(
     return to_model(*parsed, info, domain_path, problem_path)
 
 
+def as_path(value: object, what: str) -> Path:
+    """``value`` as a path, or a :class:`~mega_sat.errors.UsageError` for what is none (None,
+    a number, bytes, an empty string) instead of ``pathlib``'s TypeError or a read of
+    the current folder."""
+    import os
+
+    from mega_sat.errors import UsageError
+
+    if not isinstance(value, str | os.PathLike) or str(value) == "":
+        raise UsageError(f"{what}: expected a path (str or Path), got {value!r}")
+    return Path(value)
+
+
 def read_text(path: str | Path, what: str) -> str:
     """Read a text file; a missing or unreadable file is a :class:`PDDLError` naming it."""
+    path = as_path(path, f"{what} file")
     try:
-        return Path(path).read_text(encoding="utf-8")
+        return path.read_text(encoding="utf-8")
     except FileNotFoundError:
         raise PDDLError(f"{what} file not found", path=str(path)) from None
     except IsADirectoryError:

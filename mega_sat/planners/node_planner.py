@@ -75,6 +75,11 @@ def checked_run_arguments(
         deadline = Deadline.after(timeout)
     elif timeout is not None:
         raise UsageError("give either timeout or deadline, not both")
+    elif not isinstance(deadline, Deadline):
+        raise UsageError(
+            f"deadline must be a mega_sat.deadline.Deadline (or give timeout= seconds), got "
+            f"{deadline!r}"
+        )
     return deadline, options
 
 
