@@ -392,6 +392,12 @@ def explain(
 def verify(
     task: TwoModelTask | MultiHumanTask, point: FrontierPoint | Explanation | None = None, **kw
 ) -> VerifyReport:
-    """Independent check of an answer (see :mod:`mega_sat.engines.verify`)."""
-    solver_kw = {k: kw.pop(k) for k in ("engine", "planner", "update_costs", "options") if k in kw}
+    """Independent check of an answer (see :mod:`mega_sat.engines.verify`); the solver's
+    arguments (``timeout``, ``deadline``, ``planner``, ...) go to the solver, the rest to
+    :meth:`MegaSolver.verify`."""
+    solver_args = (
+        "engine", "planner", "update_costs", "options", "timeout", "deadline", "solver",
+        "hitting_set", "joint",
+    )  # fmt: skip
+    solver_kw = {k: kw.pop(k) for k in solver_args if k in kw}
     return _solver_for(task, **solver_kw).verify(point, **kw)

@@ -420,3 +420,23 @@ def test_cli_verify_states_the_cost(tmp_path):
 def test_load_update_costs_from_docs_example():
     costs = load_update_costs(ROOT / "docs/examples/usar-p1.costs")
     assert costs.as_dict() == {P6P7: 5}
+
+
+def test_update_costs_built_in_code_are_checked():
+    """An ``UpdateCosts`` made in code gets the checks a file or a mapping gets (a cost of 0
+    once failed deep in the hitting set; a name given twice was taken silently)."""
+    from mega_sat import api
+    from mega_sat.pddl.update_costs import UpdateCostError, UpdateCosts
+
+    task = api.load_task_dir(Path(__file__).resolve().parent.parent / "domains/usar-fetch/p1")
+    name = task.delta[0].name
+    for costs, message in [
+        (((name, 0),), "must be a positive integer, got 0"),
+        (((name, "x"),), "must be a positive integer, got 'x'"),
+        (("x",), r"holds \(update name, cost\) pairs"),
+        (((name, 2), (name, 3)), "is given twice"),
+    ]:
+        with pytest.raises(UpdateCostError, match=message):
+            api.MegaSolver(task, update_costs=UpdateCosts(costs))
+    ok = api.MegaSolver(task, update_costs=UpdateCosts(((name, 2),), (None, None)))
+    assert ok.update_costs[0] == 2

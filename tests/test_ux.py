@@ -399,3 +399,5 @@ def test_library_slips_are_usage_errors():
         s.verify(point, producer="FD")
     with pytest.raises(UsageError, match="use_val must be True or False"):
         s.verify(point, use_val="no")
+    # api.verify hands the solver's arguments to the solver (timeout= was a TypeError)
+    assert api.verify(task, point, timeout=60, hitting_set="ilp").ok

@@ -90,7 +90,19 @@ def load_update_costs(path: str | Path) -> UpdateCosts:
 def as_update_costs(costs: UpdateCosts | Mapping[str, int]) -> UpdateCosts:
     """Costs given in code (a mapping from update name to cost) in the checked form."""
     if isinstance(costs, UpdateCosts):
-        return costs
+        # built in code too: the same checks as a mapping, and no name given twice
+        try:
+            pairs = [(name, cost) for name, cost in costs.costs]
+        except (TypeError, ValueError):
+            raise UpdateCostError("UpdateCosts.costs holds (update name, cost) pairs") from None
+        seen: set[object] = set()
+        for name, _ in pairs:
+            if name in seen:
+                raise UpdateCostError(f"the cost of '{_shown(str(name))}' is given twice")
+            seen.add(name)
+        checked = as_update_costs(dict(pairs))
+        lines = costs.lines if len(costs.lines) == len(pairs) else ()
+        return UpdateCosts(checked.costs, lines, costs.source)
     if not isinstance(costs, Mapping):
         raise UpdateCostError(
             "update costs are a mapping from update name to a positive integer, got "
