@@ -279,3 +279,20 @@ def test_route_maps_with_trade_offs_equal_brute_force(task, planner):
     fr = multi_frontier(task, fams, planner=planner)
     assert (fr.robot_optimal_cost, _pairs(fr.points)) == (got[0], _pairs(got[1]))
     assert fr.exact
+
+
+def test_building_a_multi_human_task_checks_its_arguments():
+    """from_tasks / from_models refuse what is not a task or a model in one UsageError (an
+    AttributeError from deep inside before; found by an API sweep)."""
+    task = usar_like()
+    with pytest.raises(UsageError, match="takes a list of TwoModelTask"):
+        MultiHumanTask.from_tasks(None)
+    with pytest.raises(UsageError, match="task 2 is not a TwoModelTask: int"):
+        MultiHumanTask.from_tasks([task, 5])
+    with pytest.raises(UsageError, match="takes the robot's Model"):
+        MultiHumanTask.from_models(None, [task.human, task.human])
+    with pytest.raises(UsageError, match="human model 2 is not a Model"):
+        MultiHumanTask.from_models(task.robot, [task.human, None])
+    with pytest.raises(UsageError, match="sources names 1 human model"):
+        MultiHumanTask.from_models(task.robot, [task.human, task.human], sources=[{}])
+    assert len(MultiHumanTask.from_models(task.robot, [task.human, task.human]).tasks) == 2

@@ -48,7 +48,12 @@ class MultiHumanTask:
     @classmethod
     def from_tasks(cls, tasks: Sequence[TwoModelTask]) -> MultiHumanTask:
         """Several two-model tasks of one robot model (checked) as one task."""
+        if isinstance(tasks, str | bytes) or not isinstance(tasks, Iterable):
+            raise UsageError(f"from_tasks takes a list of TwoModelTask, got {tasks!r}")
         tasks = tuple(tasks)
+        for k, t in enumerate(tasks, 1):
+            if not isinstance(t, TwoModelTask):
+                raise UsageError(f"task {k} is not a TwoModelTask: {type(t).__name__}")
         if len(tasks) < 2:
             raise UsageError(f"several human models need at least 2 tasks, got {len(tasks)}")
         for k, t in enumerate(tasks[1:], 2):
@@ -71,7 +76,19 @@ class MultiHumanTask:
     ) -> MultiHumanTask:
         """The task of a robot model and several human models (``sources``: file names per
         human model, for messages, as in :meth:`TwoModelTask.from_models`)."""
+        if not isinstance(robot, Model):
+            raise UsageError(f"from_models takes the robot's Model, got {type(robot).__name__}")
+        if isinstance(humans, str | bytes) or not isinstance(humans, Iterable):
+            raise UsageError(f"from_models takes a list of human Models, got {humans!r}")
+        humans = list(humans)
+        for k, h in enumerate(humans, 1):
+            if not isinstance(h, Model):
+                raise UsageError(f"human model {k} is not a Model: {type(h).__name__}")
         srcs = list(sources) if sources is not None else [{} for _ in humans]
+        if len(srcs) != len(humans):
+            raise UsageError(
+                f"sources names {len(srcs)} human model(s), but {len(humans)} are given"
+            )
         return cls.from_tasks(
             [TwoModelTask.from_models(robot, h, s) for h, s in zip(humans, srcs, strict=True)]
         )
