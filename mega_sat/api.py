@@ -238,9 +238,10 @@ class MegaSolver:
         smaller explanation, :func:`mega_sat.results.choose`).  ``astar``:
         the minimum node of the paper's Algorithm 1 run with this alpha.
         """
+        exact = alpha  # a Fraction or Decimal keeps its exact value for the ties of choose
         alpha = _check_alpha(alpha)
         if self.engine == "sat":
-            return choose(self.frontier(), alpha)
+            return choose(self.frontier(), exact)
         from mega_sat.engines.astar import astar_solve
 
         return astar_solve(

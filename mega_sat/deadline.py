@@ -49,6 +49,8 @@ def parse_timeout(value: object, *, name: str = "timeout") -> float | None:
     """
     if value is None:
         return None
+    if isinstance(value, bool):  # float(True) is 1.0: a slip, not a limit of one second
+        raise UsageError(f"{name} must be a number of seconds > 0, got {value!r}")
     try:
         seconds = float(value.strip() if isinstance(value, str) else value)  # type: ignore[arg-type]
     except (TypeError, ValueError):

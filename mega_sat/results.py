@@ -9,6 +9,7 @@ from __future__ import annotations
 import json
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from decimal import Decimal
 from fractions import Fraction
 from typing import Any
 
@@ -221,7 +222,8 @@ def choose(frontier: Frontier, alpha: float) -> Solution:
     Ties: lower robot cost, then smaller cost(E) (docs/index.md).  Because the frontier holds every
     Pareto-optimal pair, this is the optimum over all MEGA solutions (paper property 4).
     """
-    check_alpha(alpha)
+    exact = exact_alpha(alpha)  # before the float: a Fraction(1, 3) ties as 1/3 does
+    alpha = check_alpha(alpha)
     if not frontier.points:
         if not frontier.complete:
             # stopped by the time limit before the first point: nothing to choose from, which
@@ -237,7 +239,7 @@ def choose(frontier: Frontier, alpha: float) -> Solution:
 
         raise UnsolvableError("no MEGA solution found")
     c = frontier.robot_optimal_cost
-    a = exact_alpha(alpha)
+    a = exact
     best = min(
         frontier.points,
         key=lambda p: (
@@ -295,5 +297,9 @@ def check_alpha(alpha: object) -> float:
 
 def exact_alpha(alpha: float) -> Fraction:
     """alpha as the exact decimal the user wrote, so ties such as ``1 + 0.1*30 == 3 + 0.1*10``
-    are ties, not float noise."""
+    are ties, not float noise; an int, a ``Fraction`` or a ``Decimal`` as it is (checked by
+    :func:`check_alpha` first)."""
+    check_alpha(alpha)
+    if isinstance(alpha, int | Fraction | Decimal):
+        return Fraction(alpha)
     return Fraction(repr(float(alpha)))

@@ -296,3 +296,22 @@ def test_building_a_multi_human_task_checks_its_arguments():
     with pytest.raises(UsageError, match="sources names 1 human model"):
         MultiHumanTask.from_models(task.robot, [task.human, task.human], sources=[{}])
     assert len(MultiHumanTask.from_models(task.robot, [task.human, task.human]).tasks) == 2
+
+
+def test_an_exact_alpha_keeps_its_ties():
+    """At alpha = 1/3 the two commanders' points (2, 8) and (3, 5) tie (objective 10/3) and
+    the lower robot cost wins; a Fraction(1, 3) was rounded to a float first, which is just
+    below 1/3, and picked (2, 8)."""
+    from fractions import Fraction
+    from pathlib import Path
+
+    from mega_sat import api
+
+    root = Path(__file__).resolve().parent.parent
+    solver = MultiHumanSolver(api.load_multi_task_dir(root / "domains" / "usar-two-commanders"))
+    pairs = [(p.size, p.robot_cost) for p in solver.frontier().points]
+    assert (2, 8) in pairs and (3, 5) in pairs
+    assert solver.solve(Fraction(1, 3)).chosen.robot_cost == 5
+    assert solver.solve(1 / 3).chosen.robot_cost == 8  # the float is below 1/3
+    with pytest.raises(UsageError, match="timeout must be a number of seconds"):
+        api.MegaSolver(api.load_task_dir(root / "domains/usar-fetch/p1"), timeout=True)

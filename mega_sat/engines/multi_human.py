@@ -417,7 +417,8 @@ class MultiHumanSolver:
         return self._frontier
 
     def solve(self, alpha: float) -> Solution:
-        return choose(self.frontier(), check_alpha(alpha))
+        check_alpha(alpha)  # before the run; choose keeps a Fraction's exact value for ties
+        return choose(self.frontier(), alpha)
 
     def partial_frontier(self, reason: str) -> MultiHumanFrontier | None:
         """The points proven before a stop from outside, as an incomplete frontier."""
