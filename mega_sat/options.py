@@ -423,18 +423,12 @@ class Options:
                 if not isinstance(v, bool):
                     raise UsageError(f"option {f.name}={v!r}: expected True or False")
                 continue
-            zero_ok = bool(f.metadata.get("zero"))
+            # 0 stays open to code (tests switch a step off, or on at once, with it); the
+            # CLI's --option refuses it where the knob's doc gives 0 no meaning
             kind = numbers.Integral if f.type == "int" else numbers.Real
-            if (
-                not isinstance(v, kind)
-                or isinstance(v, bool)
-                or not math.isfinite(v)
-                or not (v > 0 or (zero_ok and v == 0))
-            ):
+            if not isinstance(v, kind) or isinstance(v, bool) or not math.isfinite(v) or v < 0:
                 what = "an integer" if f.type == "int" else "a finite number"
-                raise UsageError(
-                    f"option {f.name}={v!r}: expected {what} " + (">= 0" if zero_ok else "> 0")
-                )
+                raise UsageError(f"option {f.name}={v!r}: expected {what} >= 0")
 
     @classmethod
     def docs(cls) -> list[tuple[str, str, str]]:

@@ -193,7 +193,6 @@ def test_mce_out_of_time_is_a_time_limit_not_bad_input(monkeypatch):
         {"quick_nodes": "x"},
         {"horizon_cap": -1},
         {"horizon_cap": 2.5},
-        {"quick_nodes": 0},
         {"step_first": "no"},
         {"step_first": 1},
     ],
