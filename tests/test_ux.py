@@ -401,3 +401,23 @@ def test_library_slips_are_usage_errors():
         s.verify(point, use_val="no")
     # api.verify hands the solver's arguments to the solver (timeout= was a TypeError)
     assert api.verify(task, point, timeout=60, hitting_set="ilp").ok
+
+
+def test_a_time_limit_while_drawing_keeps_the_frontier(tmp_path, monkeypatch):
+    """The limit reached inside --plot (matplotlib's import alone takes a second) once ended
+    the run with exit 124 and nothing printed; the frontier is the answer, so it is printed
+    (exit 0) and a note says the figure was not written (found by an output sweep)."""
+    from mega_sat.cli import plotting
+    from mega_sat.deadline import TimeLimitReached
+
+    def late(*a, **k):
+        raise TimeLimitReached(3.0, forced=True)
+
+    monkeypatch.setattr(plotting, "write_plot", late)
+    target = tmp_path / "f.svg"
+    res = run("frontier", "--task", BLOCKS, "--plot", target, "--json")
+    assert res.exit_code == 0, res.output
+    d = json.loads(res.stdout)
+    assert d["frontier"] and d["complete"] is False
+    assert any("while drawing: --plot not written" in n for n in d["notes"])
+    assert not target.exists()

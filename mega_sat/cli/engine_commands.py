@@ -219,9 +219,16 @@ def _plot(run, fr, target, force, title) -> list[str]:
         return []
     if run.stopped is not None:
         return ["--plot skipped: the run was stopped"]
-    from mega_sat.cli.plotting import write_plot
+    try:
+        from mega_sat.cli.plotting import write_plot
 
-    click.echo(f"; wrote {write_plot(fr, target, force=force, title=title)}", err=True)
+        click.echo(f"; wrote {write_plot(fr, target, force=force, title=title)}", err=True)
+    except (TimeLimitReached, Interrupted) as stop:
+        # drawing (matplotlib's import alone takes a second) ran past the limit: the frontier
+        # found is still the answer, printed without the figure
+        run.quiet()
+        run.stopped = stop
+        return [f"{stop} while drawing: --plot not written"]
     return []
 
 
