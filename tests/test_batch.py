@@ -359,3 +359,19 @@ def test_a_results_file_that_cannot_be_opened_is_an_output_error(tmp_path, monke
     monkeypatch.setattr(builtins, "open", refuse)
     with pytest.raises(OutputError, match="r.jsonl: cannot write file: Read-only file system"):
         ResultsFile(tmp_path / "r.jsonl", [], restart=False)
+
+
+def test_a_last_line_without_its_newline_is_not_glued_to_the_next(tmp_path):
+    """A results file whose last line is whole but lacks "\\n" (an editor, ``head``): the
+    next result was appended onto it, two objects on one line, and the file could no longer
+    be resumed (found by an output sweep)."""
+    from mega_sat.cli.batch import ResultsFile
+
+    lines = ['{"task": "a"}', '{"task": "b"}']
+    out = tmp_path / "r.jsonl"
+    out.write_text("\n".join(lines))  # no final newline
+    f = ResultsFile(out, lines, restart=False)
+    f.append({"task": "c"})
+    f.close()
+    got = out.read_text().splitlines()
+    assert [json.loads(line)["task"] for line in got] == ["a", "b", "c"]

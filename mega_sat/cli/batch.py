@@ -116,8 +116,11 @@ class ResultsFile:
 
     def __init__(self, out: Path, good_lines: Sequence[str], *, restart: bool):
         self.path = out
+        text = out.read_text(encoding="utf-8") if out.exists() else ""
         if restart or (
-            out.exists() and out.read_text(encoding="utf-8").rstrip("\n") != "\n".join(good_lines)
+            text.rstrip("\n") != "\n".join(good_lines)
+            # a last line complete but without its newline: the next line would be glued to it
+            or (text and not text.endswith("\n"))
         ):
             # a fresh start, or a cut-short last line to drop: rewrite atomically first
             write_file(out, "".join(line + "\n" for line in good_lines), force=True)
