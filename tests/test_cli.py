@@ -122,6 +122,12 @@ def test_write_model_and_verify_files(tmp_path):
     (point,) = list(out.iterdir())
     for f in ("human-domain.pddl", "human-problem.pddl", "plan.ipc", "explanation.txt"):
         assert (point / f).is_file()
+    # the footer is the plan's cost in the model beside it (it was the robot cost, which VAL
+    # on these files does not give); the robot cost is a comment above the plan
+    sol = json.loads(run("solve", "--task", USAR, "--alpha", "0.1", "--json").stdout)["chosen"]
+    text = (point / "plan.ipc").read_text().splitlines()
+    assert text[0] == f"; robot cost = {sol['robot_cost']}"
+    assert text[-1] == f"; cost = {sol['human_cost']} (general cost)"
     # writing again without --force is refused, with --force allowed
     again = run("solve", "--task", USAR, "--alpha", "0.1", "--write-model", out)
     assert again.exit_code == 2 and "exists" in _single_error_line(again)

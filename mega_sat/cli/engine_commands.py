@@ -167,7 +167,10 @@ def _write_models(solver, points, out):
             d = out.path / name
             m = solver.task.updated_model(p.selection)
             write_model(m, d, domain_file="human-domain.pddl", problem_file="human-problem.pddl")
-            write_file(d / "plan.ipc", format_plan(p.plan, p.robot_cost))
+            # the footer is the plan's cost in the model beside it (human + E), as VAL on
+            # these files reports it; its cost for the robot is a comment above it
+            plan_text = format_plan(p.plan, p.human_cost)
+            write_file(d / "plan.ipc", f"; robot cost = {p.robot_cost}\n" + plan_text)
             write_file(d / "explanation.txt", "".join(e + "\n" for e in p.explanation))
             written += [
                 out.target / name / f
