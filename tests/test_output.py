@@ -143,7 +143,8 @@ def test_write_model_force_replaces_an_earlier_task_as_a_whole(tmp_path):
     assert r.returncode == 0, r.stderr
     names = sorted(p.name for p in target.iterdir())
     assert names == ["point-0-E0", "point-1-E1", "point-2-E3"]  # none of the earlier task's
-    assert (target / "point-2-E3" / "plan.ipc").read_text().startswith("(pick p1 a)")
+    steps = (target / "point-2-E3" / "plan.ipc").read_text().splitlines()
+    assert [s for s in steps if not s.startswith(";")][0] == "(pick p1 a)"
     assert _leftovers(tmp_path) == []
 
 
