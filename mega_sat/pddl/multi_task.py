@@ -34,6 +34,18 @@ def _update_key(u: Update) -> tuple:
     return (KIND_ORDER[u.feature.kind], not u.robot_has, u.feature.action, u.feature.atom)
 
 
+def _items_of(values: object, kind: type, what: str, each: str) -> list:
+    """``values`` as a list whose items are all ``kind``, or one UsageError naming the first
+    that is not (a library user's slip, not an AttributeError from inside)."""
+    if isinstance(values, str | bytes) or not isinstance(values, Iterable):
+        raise UsageError(f"{what} takes a list of {kind.__name__}, got {values!r}")
+    items = list(values)
+    for k, v in enumerate(items, 1):
+        if not isinstance(v, kind):
+            raise UsageError(f"{each} {k} is not a {kind.__name__}: {type(v).__name__}")
+    return items
+
+
 @dataclass(frozen=True)
 class MultiHumanTask:
     """The robot model, one :class:`TwoModelTask` per human model, and the union ``delta``.
@@ -48,12 +60,7 @@ class MultiHumanTask:
     @classmethod
     def from_tasks(cls, tasks: Sequence[TwoModelTask]) -> MultiHumanTask:
         """Several two-model tasks of one robot model (checked) as one task."""
-        if isinstance(tasks, str | bytes) or not isinstance(tasks, Iterable):
-            raise UsageError(f"from_tasks takes a list of TwoModelTask, got {tasks!r}")
-        tasks = tuple(tasks)
-        for k, t in enumerate(tasks, 1):
-            if not isinstance(t, TwoModelTask):
-                raise UsageError(f"task {k} is not a TwoModelTask: {type(t).__name__}")
+        tasks = tuple(_items_of(tasks, TwoModelTask, "from_tasks", "task"))
         if len(tasks) < 2:
             raise UsageError(f"several human models need at least 2 tasks, got {len(tasks)}")
         for k, t in enumerate(tasks[1:], 2):
@@ -78,12 +85,7 @@ class MultiHumanTask:
         human model, for messages, as in :meth:`TwoModelTask.from_models`)."""
         if not isinstance(robot, Model):
             raise UsageError(f"from_models takes the robot's Model, got {type(robot).__name__}")
-        if isinstance(humans, str | bytes) or not isinstance(humans, Iterable):
-            raise UsageError(f"from_models takes a list of human Models, got {humans!r}")
-        humans = list(humans)
-        for k, h in enumerate(humans, 1):
-            if not isinstance(h, Model):
-                raise UsageError(f"human model {k} is not a Model: {type(h).__name__}")
+        humans = _items_of(humans, Model, "from_models", "human model")
         srcs = list(sources) if sources is not None else [{} for _ in humans]
         if len(srcs) != len(humans):
             raise UsageError(
