@@ -216,6 +216,12 @@ def pareto_filter(points: Sequence[FrontierPoint]) -> tuple[FrontierPoint, ...]:
     return tuple(out)
 
 
+def needs(bound: int, weighted: bool = False) -> str:
+    """What a lower bound of the hitting set proves about the explanation cost (|E|, or
+    cost(E) with update costs) of every solution it covers."""
+    return f"any solution needs {'cost(E)' if weighted else '|E|'} >= {bound}"
+
+
 def choose(frontier: Frontier, alpha: float) -> Solution:
     """Pick the frontier point minimising MEGA's objective for ``alpha``.
 
@@ -232,9 +238,7 @@ def choose(frontier: Frontier, alpha: float) -> Solution:
 
             bound = frontier.next_cost_lower_bound
             weighted = frontier.update_costs is not None
-            what = "cost(E)" if weighted else "|E|"
-            detail = None if bound is None else f"any solution needs {what} >= {bound}"
-            raise TimeLimitReached(detail=detail)
+            raise TimeLimitReached(detail=None if bound is None else needs(bound, weighted))
         from mega_sat.errors import UnsolvableError
 
         raise UnsolvableError("no MEGA solution found")

@@ -121,7 +121,8 @@ class ILPHittingSet(HittingSetSolver):
                 prob += pulp.lpSum(x[i] if v else 1 - x[i] for i, v in c) >= 1
         status = solve_cbc(prob, time_limit=self.deadline.remaining(), gapRel=0)
         if self.deadline.expired() and prob.sol_status != pulp.LpSolutionOptimal:
-            # CBC cut short may call the problem infeasible: that is no proof
+            # past the deadline only a proven optimum is used (solve_cbc already keeps a
+            # cut-short "infeasible" from counting)
             raise TimeLimitReached(self.deadline.seconds)
         if status == pulp.LpStatusInfeasible:
             return None

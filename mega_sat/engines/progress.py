@@ -22,17 +22,17 @@ from dataclasses import dataclass, field
 from typing import TextIO
 
 from mega_sat.deadline import Deadline
-from mega_sat.results import Frontier, FrontierPoint, pareto_filter
+from mega_sat.results import Frontier, FrontierPoint, needs, pareto_filter
 
 
 def lower_bound_note(bound: int, have_points: bool, weighted: bool = False) -> str:
     """What a lower bound on the explanation cost (|E|, or cost(E) with update costs) from the
     hitting set proves: with points, about the solutions cheaper than the last one (the loop's
     robot-cost bound); without, about every solution."""
-    what = "cost(E)" if weighted else "|E|"
     if have_points:
+        what = "cost(E)" if weighted else "|E|"
         return f"any solution cheaper than the last point needs {what} >= {bound}"
-    return f"no point found yet; any solution needs {what} >= {bound}"
+    return f"no point found yet; {needs(bound, weighted)}"
 
 
 @dataclass

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 from mega_sat.deadline import Deadline
 from mega_sat.ground.family import GroundFamily
-from mega_sat.ground.simulate import simulate
+from mega_sat.ground.simulate import simulate, step_mismatch
 from mega_sat.model.lifted import PlanStep, step_str
 from mega_sat.model.task import TwoModelTask
 from mega_sat.options import DEFAULT, Options
@@ -170,15 +170,11 @@ def checker_for(producer: str, family: GroundFamily | None = None) -> str:
 def _not_an_action(model, plan) -> str | None:
     """Why some step of ``plan`` names no action schema of ``model`` with its number of
     arguments (``None`` when every step does)."""
-    for k, step in enumerate(plan, 1):
-        schema = model.schemas.get(step[0].lower())
-        if schema is None:
-            return f"step {k} {step_str(step)}: unknown action '{step[0].lower()}'"
-        if len(step) - 1 != len(schema.params):
-            return (
-                f"step {k} {step_str(step)}: wrong number of arguments (expected "
-                f"{len(schema.params)}, got {len(step) - 1})"
-            )
+    for k, raw in enumerate(plan, 1):
+        step = tuple(x.lower() for x in raw)
+        mismatch = step_mismatch(model, step)
+        if mismatch is not None:
+            return f"step {k} {step_str(step)}: {mismatch}"
     return None
 
 

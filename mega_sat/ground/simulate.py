@@ -40,6 +40,17 @@ def _norm(step: PlanStep) -> PlanStep:
     return tuple(x.lower() for x in step)
 
 
+def step_mismatch(model: Model, step: PlanStep) -> str | None:
+    """Why ``step`` (lower-case) names no action schema of ``model`` with its number of
+    arguments; ``None`` when it does."""
+    schema = model.schemas.get(step[0])
+    if schema is None:
+        return f"unknown action '{step[0]}'"
+    if len(step) - 1 != len(schema.params):
+        return f"wrong number of arguments (expected {len(schema.params)}, got {len(step) - 1})"
+    return None
+
+
 def simulate(model: Model, plan: Sequence[PlanStep]) -> Simulation:
     """Execute ``plan`` in the lifted ``model``."""
     state = set(model.init)
@@ -53,13 +64,10 @@ def simulate(model: Model, plan: Sequence[PlanStep]) -> Simulation:
                 False, None, k, f"step {k} {step_str(step)}: {msg}", frozenset(state), k - 1
             )
 
-        schema = model.schemas.get(name)
-        if schema is None:
-            return fail(f"unknown action '{name}'")
-        if len(args) != len(schema.params):
-            return fail(
-                f"wrong number of arguments (expected {len(schema.params)}, got {len(args)})"
-            )
+        mismatch = step_mismatch(model, step)
+        if mismatch is not None:
+            return fail(mismatch)
+        schema = model.schemas[name]
         for x in args:
             if x not in model.objects:
                 return fail(f"unknown object '{x}'")
