@@ -90,6 +90,27 @@ def test_batch_writes_the_frontier_of_every_task(tmp_path, usar_frontiers):
     assert r.stderr.count("exit 0,") == 3  # one progress line per task
 
 
+def test_a_task_with_several_human_models_is_one_task(tmp_path):
+    """``batch domains/`` meets usar-two-commanders: its human-K folders make one task, run as
+    ``frontier`` runs it, with the user's file names in the result."""
+    task = "domains/usar-two-commanders"
+    assert find_task_dirs([ROOT / "domains"]).count(ROOT / task) == 1
+    out = tmp_path / "r.jsonl"
+    r = _batch(task, "--out", str(out))
+    assert r.returncode == 0, r.stderr
+    (line,) = _lines(out)
+    direct = subprocess.run(
+        [*CLI, "frontier", "--task", task, "--json"], cwd=ROOT, capture_output=True, text=True
+    )
+    expected = json.loads(direct.stdout)
+    assert line["exit_code"] == 0 and line["result"]["engine"] == "multi-human"
+    assert line["result"]["frontier"] == expected["frontier"] != []
+    assert [h["problem"] for h in line["result"]["human_models"]] == [
+        f"{task}/human-1/human-problem.pddl",
+        f"{task}/human-2/human-problem.pddl",
+    ]
+
+
 def test_messages_name_the_users_files(tmp_path):
     bad = tmp_path / "bad"
     bad.mkdir()

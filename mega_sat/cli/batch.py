@@ -1,8 +1,8 @@
 """``mega-sat batch``: the frontier of many task folders, one JSON line per task.
 
 Each task runs as its own ``mega-sat frontier --json`` process with its own time limit, on a
-local thread pool or on the workers of a Dask cluster (:mod:`mega_sat.executor`).  The four
-PDDL texts travel with the task, so workers need mega-sat installed but no shared file system.
+local thread pool or on the workers of a Dask cluster (:mod:`mega_sat.executor`).  The PDDL
+texts travel with the task, so workers need mega-sat installed but no shared file system.
 The caller appends each line to the results file as soon as the task ends, with an ``fsync``,
 so a stop (a dead worker, Ctrl-C, a time limit, a crash of the caller) loses nothing already
 written, and a second run with the same file skips every task it already holds.
@@ -27,19 +27,28 @@ from typing import Any
 from mega_sat.errors import EXIT_TIMEOUT, UsageError
 from mega_sat.output import OutputError, write_file
 from mega_sat.pddl.loading import TASK_FILES, resolve_task_dir
+from mega_sat.pddl.multi_task import human_dirs, resolve_multi_task_dir
 
 GRACE_S = 10.0
 """How long past its own time limit a task's process may run before it is killed (the process
 stops itself within max(1 s, 5 %) of the limit; this only catches one that hangs)."""
 
+_FLAGS = {
+    "robot_domain": "--robot-domain",
+    "robot_problem": "--robot-problem",
+    "human_domain": "--human-domain",
+    "human_problem": "--human-problem",
+}
+
 
 @dataclass(frozen=True)
 class BatchTask:
-    """One task folder, with the texts of its four files (keyed like ``load_task``)."""
+    """One task folder, with the texts of its files: ``files`` holds ``(flag, path, text)``
+    in the order ``frontier`` takes them (``--robot-domain``, ``--robot-problem``, then one
+    ``--human-domain``/``--human-problem`` pair per human model)."""
 
     name: str
-    paths: dict[str, str]
-    texts: dict[str, str]
+    files: tuple[tuple[str, str, str], ...]
 
 
 def find_task_dirs(paths: Iterable[str | Path]) -> list[Path]:
@@ -62,14 +71,28 @@ def find_task_dirs(paths: Iterable[str | Path]) -> list[Path]:
 
 
 def read_task(d: Path) -> BatchTask:
-    paths = {role: str(p) for role, p in resolve_task_dir(d).items()}
-    texts = {}
-    for role, p in paths.items():
+    """The files of task folder ``d``, one human model or several (``human-K/`` folders)."""
+    if human_dirs(d):
+        multi = resolve_multi_task_dir(d)
+        named = [
+            ("--robot-domain", multi["robot_domain"]),
+            ("--robot-problem", multi["robot_problem"]),
+        ]
+        for domain, problem in multi["humans"]:
+            named += [("--human-domain", domain), ("--human-problem", problem)]
+    else:
+        one = resolve_task_dir(d)
+        named = [(_FLAGS[role], one[role]) for role in _FLAGS]
+    files = []
+    for flag, path in named:
         try:
-            texts[role] = Path(p).read_text(encoding="utf-8")
+            text = Path(path).read_text(encoding="utf-8")
         except (OSError, UnicodeDecodeError) as e:
-            raise UsageError(f"cannot read: {getattr(e, 'strerror', None) or e}", path=p) from None
-    return BatchTask(str(d), paths, texts)
+            raise UsageError(
+                f"cannot read: {getattr(e, 'strerror', None) or e}", path=str(path)
+            ) from None
+        files.append((flag, str(path), text))
+    return BatchTask(str(d), tuple(files))
 
 
 # ------------------------------------------------------------------------------- results file
@@ -161,19 +184,13 @@ def run_task(task: BatchTask, options: Sequence[str], timeout: float | None) -> 
     into a temporary folder, and its paths are replaced by the task's own in the output."""
     t0 = time.perf_counter()
     with tempfile.TemporaryDirectory(prefix="mega-sat-batch-") as tmp:
-        local = {}
-        for role, text in task.texts.items():
-            p = Path(tmp) / TASK_FILES[role]
-            p.write_text(text, encoding="utf-8")
-            local[role] = str(p)
         cmd = [sys.executable, "-m", "mega_sat.cli.commands", "frontier", "--json"]
-        for role, flag in (
-            ("robot_domain", "--robot-domain"),
-            ("robot_problem", "--robot-problem"),
-            ("human_domain", "--human-domain"),
-            ("human_problem", "--human-problem"),
-        ):
-            cmd += [flag, local[role]]
+        local = []
+        for i, (flag, path, text) in enumerate(task.files):
+            p = Path(tmp) / f"{i}-{Path(path).name}"  # two human models may share a name
+            p.write_text(text, encoding="utf-8")
+            local.append((str(p), path))
+            cmd += [flag, str(p)]
         cmd += list(options)
         if timeout is not None:
             cmd += ["--timeout", repr(timeout)]
@@ -196,8 +213,8 @@ def run_task(task: BatchTask, options: Sequence[str], timeout: float | None) -> 
         finally:
             with _children_lock:
                 _children.discard(proc)
-        for role, p in local.items():  # messages name the user's files, not the copies
-            out = out.replace(json.dumps(p)[1:-1], json.dumps(task.paths[role])[1:-1])
+        for p, users in local:  # messages name the user's files, not the copies
+            out = out.replace(json.dumps(p)[1:-1], json.dumps(users)[1:-1])
     try:
         result = json.loads(out)
     except json.JSONDecodeError:
