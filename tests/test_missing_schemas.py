@@ -214,3 +214,31 @@ def test_smallest_instance_frontier_cross_checked():
     assert baseline.robot_optimal_cost == fr.robot_optimal_cost
     for size, cost in _points(baseline):
         assert any(s <= size and c <= cost for s, c in _points(fr)), (size, cost)
+
+
+def test_apply_names_updates_of_schemas_it_cannot_write(tmp_path):
+    """A precondition of a schema human + E still lacks has no place in PDDL: ``apply`` writes
+    the model without it and says so, so a re-diff listing it again is no surprise."""
+    from click.testing import CliRunner
+
+    from mega_sat.cli.commands import main
+
+    task = SUITE / "depots" / "p1"
+    e = tmp_path / "e.txt"
+    e.write_text(
+        "add-lift-load-has-precondition-at ?c ?p\nadd-drive-has-precondition-road ?from ?to\n"
+    )
+    res = CliRunner().invoke(
+        main, ["apply", "--task", str(task), "--explanation", str(e), "--out", str(tmp_path / "m")]
+    )
+    assert res.exit_code == 0, res.output
+    assert "1 update(s) of the explanation belong to action(s) human + E lacks (lift-load)" in (
+        res.output
+    )
+    written = (tmp_path / "m" / "domain.pddl").read_text()
+    assert "lift-load" not in written and "(road ?from ?to)" in written
+    e.write_text("add-drive-has-precondition-road ?from ?to\n")
+    res = CliRunner().invoke(
+        main, ["apply", "--task", str(task), "--explanation", str(e), "--out", str(tmp_path / "n")]
+    )
+    assert res.exit_code == 0 and "human + E lacks" not in res.output

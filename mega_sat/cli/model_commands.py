@@ -77,8 +77,20 @@ def apply(run, explanation, out_dir, force, verbose, **kw):
     if verbose:
         _ground(task, run, verbose)
     run.deadline.check()
-    d, p = write_model(task.updated_model(sel), out_dir, overwrite=force)
+    model = task.updated_model(sel)
+    d, p = write_model(model, out_dir, overwrite=force)
     run.echo(f"wrote {d}\nwrote {p}")
+    unwritten = sorted({task.delta[i].feature.action for i in sel} - set(model.schemas))
+    unwritten = [a for a in unwritten if a in task.robot.schemas]
+    if unwritten:
+        # a component of a schema human + E lacks changes no plan, and PDDL has no place for it
+        n = sum(1 for i in sel if task.delta[i].feature.action in unwritten)
+        click.echo(
+            f"; {n} update(s) of the explanation belong to action(s) human + E lacks "
+            f"({', '.join(unwritten)}): they change no plan and have no place in PDDL, so "
+            "'diff' against the written model lists them again",
+            err=True,
+        )
     return EXIT_OK
 
 
