@@ -88,6 +88,32 @@ def test_undeclared_supertype_and_object_parent():
     assert m.schemas["go"].pre == {("vehicle", "?v"), ("place", "?p")}
 
 
+def test_object_as_a_type_is_any_object():
+    """``- object`` (PDDL's root type, declared or not) on parameters, predicate and function
+    arguments, constants and objects, and inside ``either``: the library refuses it, mega-sat
+    reads it as untyped, which means the same."""
+    dom = """(define (domain d) (:requirements :typing :action-costs)
+      (:types loc - object thing)
+      (:constants home - object)
+      (:predicates (at ?x - object) (road ?x ?y - (either loc object)) (has ?t - thing))
+      (:functions (total-cost) - number (dist ?x ?y - object) - number)
+      (:action go :parameters (?x - object ?y - loc) :precondition (and (at ?x) (road ?x ?y))
+        :effect (and (not (at ?x)) (at ?y) (increase (total-cost) (dist ?x ?y)))))"""
+    prob = """(define (problem p) (:domain d) (:objects a b - loc z - object t - thing)
+      (:init (at z) (road z a) (= (dist z a) 3) (= (total-cost) 0)) (:goal (at a))
+      (:metric minimize (total-cost)))"""
+    m = parse_model(dom, prob)
+    assert m.schemas["go"].params == ("?x", "?y")
+    assert m.schemas["go"].pre == {("at", "?x"), ("road", "?x", "?y"), ("loc", "?y")}
+    assert m.objects == {"a", "b", "z", "t", "home"}
+    assert m.init >= {("loc", "a"), ("thing", "t"), ("at", "z")}
+    assert not any(a[1:] == ("z",) and a[0] != "at" for a in m.init)
+    from mega_sat.ground.grounding import ground_model
+
+    costs = {(a.name, a.args): a.cost for a in ground_model(m).actions}
+    assert costs[("go", ("z", "a"))] == 3
+
+
 def test_adl_flag_accepted_when_no_unsupported_construct_is_used():
     dom = BASE_DOMAIN.read_text().replace(":negative-preconditions", ":adl :equality")
     m = parse_model(dom, BASE_PROBLEM.read_text())

@@ -56,7 +56,17 @@ def _transformers():
     from pddl.parser.problem import ProblemTransformer
 
     class Domain(DomainTransformer):
-        """The library's domain transformer, reading the domain with :data:`PERMISSIVE_FLAGS`."""
+        """The library's domain transformer, reading the domain with :data:`PERMISSIVE_FLAGS`
+        and ``- object`` as no type (see :func:`_any_type`)."""
+
+        def typed_list_name(self, args):
+            return _any_type(super().typed_list_name(args))
+
+        def typed_list_variable(self, args):
+            return _any_type(super().typed_list_variable(args))
+
+        def f_typed_list_atomic_function_skeleton(self, args):
+            return _any_type(super().f_typed_list_atomic_function_skeleton(args))
 
         def domain_def(self, args):
             # the name comes first in every domain, so the flags are in place for what follows
@@ -67,12 +77,29 @@ def _transformers():
             return None  # the domain's own flags: checked by mega-sat, replaced by the above
 
     class Problem(ProblemTransformer):
-        """The library's problem transformer; the domain's flags are the ones that count."""
+        """The library's problem transformer; the domain's flags are the ones that count, and
+        ``- object`` is no type."""
+
+        def typed_list_name(self, args):
+            return _any_type(super().typed_list_name(args))
 
         def requirements(self, args):
             return None
 
     return {"domain": Domain, "problem": Problem}
+
+
+def _any_type(typed):
+    """A typed list of the library with ``object`` read as no type at all.
+
+    ``object`` is PDDL's root type, declared or not, but the library refuses it as the type of
+    a parameter, predicate argument, function argument, constant or object ("not in available
+    types").  An untyped entry means the same: any object.  ``typed`` is a name-to-type dict or a tuple of
+    (variable, type set) pairs; a type set holding ``object`` (``(either object t)``) is any
+    object too."""
+    if isinstance(typed, dict):
+        return {k: None if v == "object" else v for k, v in typed.items()}
+    return tuple((v, set() if "object" in types else types) for v, types in typed)
 
 
 def parse_tree(text: str, kind: str):
