@@ -72,3 +72,32 @@ def test_default_bound_and_names(tmp_path):
     assert "a[0]=(move p1 p2)" in names and "x[human][1](at p2)" in names
     assert "u[human][0][1]" in names
     assert sat(paths["cnf"])
+
+
+def test_a_robot_bound_is_refused_for_opt(tmp_path):
+    """OPT has no robot plan: a robot bound given with it would be written into the map and
+    used by nothing, so it is refused (the CLI says so before grounding)."""
+    from pathlib import Path
+
+    import pytest
+    from click.testing import CliRunner
+
+    from mega_sat.cli.commands import main
+
+    fam = GroundFamily((("at", "p1"),), 0, (), (), ((0, None),))
+    with pytest.raises(ValueError, match="robot_bound"):
+        export(fam, set(), "opt", tmp_path / "x", robot_bound=3, human_bound=1)
+    res = CliRunner().invoke(
+        main,
+        [
+            "encode",
+            "--task",
+            str(Path(__file__).parents[1] / "domains/usar-fetch/p1"),
+            "--robot-bound",
+            "3",
+            "--out",
+            str(tmp_path),
+        ],
+    )
+    assert res.exit_code == 2 and "give it with --kind joint" in res.output
+    assert not (tmp_path / "x").exists()

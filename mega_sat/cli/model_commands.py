@@ -270,6 +270,8 @@ def encode(run, kind, explanation, robot_bound, human_bound, out_dir, force, ver
     for name, v in (("--robot-bound", robot_bound), ("--human-bound", human_bound)):
         if v is not None and v < 0:
             raise UsageError(f"{name} must be >= 0, got {v}")
+    if kind == "opt" and robot_bound is not None:  # refused before grounding, as export does
+        raise UsageError("--robot-bound bounds JOINT's robot plan: give it with --kind joint")
     task = _task_from(kw)
     sel = _read_explanation(task, explanation)
     fam = _ground(task, run, verbose)

@@ -100,6 +100,8 @@ def export(
     sel = frozenset(selection)
     if kind not in ("opt", "joint"):
         raise ValueError(f"kind must be 'opt' or 'joint', not {kind!r}")
+    if kind == "opt" and robot_bound is not None:
+        raise ValueError("robot_bound bounds JOINT's robot plan: OPT has none")
     if human_bound is None:
         from mega_sat.sat.oracles import SatOracles
 
