@@ -14,7 +14,7 @@ task = api.load_task(
 print("Delta:", [u.name for u in task.delta])
 
 # 2. One solver keeps the grounding and the SAT solvers alive across calls.
-solver = api.MegaSolver(task)  # engine="sat", planner="builtin", hitting_set="rc2"
+solver = api.MegaSolver(task)  # engine="sat", planner="portfolio", hitting_set="rc2"
 fr = solver.frontier()
 print(f"robot optimum {fr.robot_optimal_cost}, exact {fr.exact}, complete {fr.complete}")
 for p in fr.points:

@@ -61,7 +61,7 @@ def engine_options(fn):
             type=PLANNER,
             default=None,
             help="Optimal planner for candidate models: per-node planner of astar, "
-            "OPT oracle of sat; portfolio = builtin and sat in turns, the first to decide "
+            "OPT oracle of sat; portfolio = builtin racing sat, the first to decide "
             "answers.  [default: builtin for astar; portfolio for the sat engine, "
             "builtin if some action costs 0]",
         ),
