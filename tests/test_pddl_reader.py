@@ -114,6 +114,68 @@ def test_object_as_a_type_is_any_object():
     assert costs[("go", ("z", "a"))] == 3
 
 
+def test_types_listing_object_or_a_type_twice():
+    """``object`` among the declared types, and a type declared twice with the same parent, are
+    valid PDDL (Fast Downward reads them); the library refuses both."""
+    prob = """(define (problem p) (:domain d) (:objects t - truck x - place)
+      (:init) (:goal (and (at t x))))"""
+    rest = """(:predicates (at ?v ?p))
+      (:action go :parameters (?v - vehicle ?p - place) :precondition (and) :effect (at ?v ?p)))"""
+    for types in (
+        "(:types truck - vehicle object vehicle place - object)",
+        "(:types truck - vehicle truck - vehicle place place\n vehicle)",
+        "(:types truck - vehicle place object)",
+    ):
+        dom = f"(define (domain d) (:requirements :typing)\n {types}\n {rest}"
+        m = parse_model(dom, prob)
+        assert m.type_predicates == {"truck", "vehicle", "place"}, types
+        assert m.init == {("truck", "t"), ("vehicle", "t"), ("place", "x")}
+        assert m.schemas["go"].pre == {("vehicle", "?v"), ("place", "?p")}
+    only_object = "(define (domain d) (:types object) (:predicates (at ?x))"
+    only_object += " (:action go :parameters (?x) :effect (at ?x)))"
+    assert (
+        parse_model(
+            only_object, "(define (problem p) (:domain d) (:objects a) (:init) (:goal (at a)))"
+        ).type_predicates
+        == set()
+    )
+
+
+def test_nested_and_in_effects_is_flattened():
+    """``(and (and (q)) (and) (not (p)))`` is a valid effect (the library's grammar takes nested
+    'and' only in conditions): it means (q) and not (p)."""
+    dom = """(define (domain d) (:requirements :strips :negative-preconditions)
+      (:predicates (p) (q) (g))
+      (:action b :parameters () :precondition (and (p) (and) (not (q)))
+        :effect (and (and (q)) (and) (and (not (p)) (and (g))))))"""
+    prob = "(define (problem x) (:domain d) (:init (p)) (:goal (g)))"
+    b = parse_model(dom, prob).schemas["b"]
+    assert b.add == {("q",), ("g",)} and b.delete == {("p",)}
+    assert b.pre == {("p",)} and b.negpre == {("q",)}
+    bad = dom.replace("(and (g))", "(and (g) (h))")
+    with pytest.raises(PDDLError, match="line 4: undefined predicate 'h'"):
+        parse_model(bad, prob)
+
+
+def test_a_function_given_two_values_is_refused():
+    dom = """(define (domain d) (:requirements :action-costs)
+      (:predicates (p ?x)) (:functions (total-cost) - number (f ?x) - number)
+      (:action a :parameters (?x) :precondition (and) :effect (and (p ?x)
+        (increase (total-cost) (f ?x)))))"""
+    prob = """(define (problem x) (:domain d) (:objects o) (:init (= (f o) 3)
+      (= (f o) {})) (:goal (p o)))"""
+    with pytest.raises(PDDLError, match=r"line 2: \(f o\) is given two values \(3 and 9\)"):
+        parse_model(dom, prob.format(9), problem_path="x.pddl")
+    assert parse_model(dom, prob.format(3)).functions[("f", "o")] == 3
+
+
+def test_preferences_are_named_when_refused():
+    dom = "(define (domain d) (:predicates (p)) (:action a :parameters () :effect (p)))"
+    prob = "(define (problem x) (:domain d) (:init) (:goal (and (preference g1 (p)))))"
+    with pytest.raises(PDDLError, match="preferences 'preference' \\(PDDL3\\) is not supported"):
+        parse_model(dom, prob)
+
+
 def test_adl_flag_accepted_when_no_unsupported_construct_is_used():
     dom = BASE_DOMAIN.read_text().replace(":negative-preconditions", ":adl :equality")
     m = parse_model(dom, BASE_PROBLEM.read_text())

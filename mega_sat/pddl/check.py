@@ -203,6 +203,8 @@ class Checker:
         if pred is None:
             raise self.fail(f"expected an atom in {what}, got {show(node)}", node)
         if pred not in info.predicates:
+            if pred == "preference":
+                raise self.refuse("preferences 'preference' (PDDL3)", node)
             raise self.fail(f"undefined predicate '{pred}' in {what}", node)
         args = node.items[1:]
         if len(args) != info.predicates[pred]:
@@ -286,8 +288,12 @@ class Checker:
         return info
 
     def types(self, node: SList, info: DomainInfo) -> None:
+        declared: set[str] = set()
+        rewrite = False  # 'object' or a type declared again: valid, the library refuses both
         for tok, parent in self.typed_list(node.items[1:], ":types"):
             t = tok.text
+            rewrite |= t == "object" or t in declared
+            declared.add(t)
             if t == "object":
                 if parent != "object":
                     raise self.fail("type 'object' cannot have a supertype", tok)
@@ -309,6 +315,11 @@ class Checker:
                     raise self.fail(f"cycle in the type hierarchy through '{t}'", node)
                 seen.add(cur)
                 cur = info.types.get(cur, "object")
+        if rewrite:  # the same hierarchy, each type once, the untyped ones last
+            own = [f"{t} - {p}" for t, p in info.types.items() if p != "object"]
+            own += [t for t, p in info.types.items() if p == "object"]
+            text = f"(:types {' '.join(own)})" if own else ""
+            info.edits.append((node.start, node.end, text))
 
     def predicates(self, node: SList, info: DomainInfo) -> None:
         for p in node.items[1:]:
@@ -435,13 +446,20 @@ class Checker:
         else:
             self.atom(node, info, variables, info.constants, what)
 
-    def effect(self, node: Node, info: DomainInfo, variables: set[str], what: str) -> int:
+    def effect(
+        self, node: Node, info: DomainInfo, variables: set[str], what: str, *, nested=False
+    ) -> int:
         """Check an effect; return how many total-cost increases it has."""
         if not isinstance(node, SList):
             raise self.fail(f"expected an effect in {what}, got {show(node)}", node)
         head = node.head
         if head == "and" or not node.items:
-            return sum(self.effect(sub, info, variables, what) for sub in node.items[1:])
+            if nested:  # valid PDDL the library's grammar lacks: its parts join the outer 'and'
+                opening = node.items[0].end if node.items else node.start + 1
+                info.edits += [(node.start, opening, ""), (node.end - 1, node.end, "")]
+            return sum(
+                self.effect(sub, info, variables, what, nested=True) for sub in node.items[1:]
+            )
         if head == "not":
             if len(node.items) != 2 or not isinstance(node.items[1], SList):
                 raise self.fail(f"malformed 'not' in {what}", node)

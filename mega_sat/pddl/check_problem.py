@@ -26,6 +26,7 @@ class ProblemChecker(Checker):
         """Check a problem against ``info``; return its ``:requirements`` sections, which a repaired
         text leaves out (the domain's flags are the ones that count)."""
         self.header(root, "problem")
+        self.values: dict[tuple[str, ...], int] = {}
         drop: list[SList] = []
         objects: dict[str, str] = dict(info.constants)
         saw_init = saw_goal = False
@@ -125,6 +126,11 @@ class ProblemChecker(Checker):
             raise self.refuse(
                 f"cost function value {value.text} (costs must be non-negative integers)", el
             )
+        key = tuple(t.text for t in term.items)
+        old = self.values.setdefault(key, int(value.text))
+        if old != int(value.text):  # which one counts would be a guess
+            shown = f"({' '.join(key)})"
+            raise self.fail(f"{shown} is given two values ({old} and {value.text})", el)
 
     def goal(self, node: Node, info: DomainInfo, objects: dict[str, str]) -> None:
         if isinstance(node, SList) and node.head == "and":
