@@ -2,7 +2,8 @@
 selection that agrees with a support runs the plan, reaches the goal and pays the same cost.
 
 The learned clauses of the hitting-set loop are sound only if this holds (encodings/hitting-set.md,
-"The tight support" and "The causal support")."""
+"The tight support" and "The causal support").  A failure core is the other way round: the plan
+fails in every selection that agrees with it."""
 
 from __future__ import annotations
 
@@ -13,7 +14,7 @@ from helpers.sat_families import agreeing, families, guards, plan_cost, random_r
 from hypothesis import given
 from hypothesis import strategies as st
 
-from mega_sat.engines.support import causal_support, tight_support
+from mega_sat.engines.support import causal_support, failure_core, tight_support
 from mega_sat.ground.family import GroundFamily, holds
 
 
@@ -37,6 +38,22 @@ def test_supports_keep_the_plan_running_at_the_same_cost(fam: GroundFamily, data
         assert all((i in sel) == v for i, v in lits)
         for other in agreeing(lits, fam.n_updates):
             assert plan_cost(fam.specialize(other), plan) == cost, (lits, other)
+
+
+@oracle_settings(400, suppress_health_check=())
+@given(fam=families(max_atoms=3, max_actions=6, max_updates=4), data=st.data())
+def test_a_failure_core_fails_the_plan_in_every_selection_agreeing_with_it(fam: GroundFamily, data):
+    """MCE excludes a candidate where the fixed plan fails by NOT(failure core): sound only if
+    the plan fails in every selection that agrees with the core."""
+    plan, _ = random_run(fam, data.draw(selections(fam.n_updates)), data)
+    sel = data.draw(selections(fam.n_updates))  # another model, where the plan may fail
+    core = failure_core(fam, sel, plan)
+    assert (core is None) == (plan_cost(fam.specialize(sel), plan) is not None)
+    if core is None:
+        return
+    assert all((i in sel) == v for i, v in core)
+    for other in agreeing(core, fam.n_updates):
+        assert plan_cost(fam.specialize(other), plan) is None, (core, other)
 
 
 def test_causal_support_drops_effects_no_condition_reads():

@@ -4,7 +4,8 @@ This is the model-reconciliation problem MEGA extends (the paper's reference [ex
 same hitting-set machinery as the ``sat`` engine, with a cheaper check per candidate: the plan
 is fixed, so a candidate ``E`` only needs a simulation of the plan in ``human + E`` and one OPT
 call.  A failed candidate teaches a clause: if the plan does not run in ``human + E``,
-``NOT(E restricted to support(plan))`` (every selection agreeing there runs it the same way);
+``NOT(failure_core(E, plan))`` (the first failing component and the causal link that makes it
+fail: every selection agreeing there fails too, :func:`~mega_sat.engines.support.failure_core`);
 if it runs but costs more than ``pi*``, ``NOT(E restricted to costs(plan) ∪ support(pi*))``
 (the plan keeps its cost, ``pi*`` still runs no dearer, so the plan stays non-optimal).
 """
@@ -17,7 +18,7 @@ from collections.abc import Sequence
 from mega_sat.deadline import Deadline
 from mega_sat.engines.hitting_set import make_hitting_set
 from mega_sat.engines.progress import Progress
-from mega_sat.engines.support import causal_support, exclusion_clause, support
+from mega_sat.engines.support import causal_support, exclusion_clause, failure_core
 from mega_sat.errors import PlannerError, UsageError
 from mega_sat.ground.family import GroundFamily
 from mega_sat.ground.simulate import simulate, simulate_ground
@@ -88,11 +89,13 @@ def minimal_explanation(
                 )
             calls["candidates"] += 1
             progress.step(len(sel))
-            sim = simulate_ground(family.specialize(sel), plan)
-            if not sim.valid:
-                hs.add(exclusion_clause(sel, support(family, plan)))
+            fail = failure_core(family, sel, plan)
+            if fail is not None:
+                # the first failure alone, kept along its causal link (support.failure_core)
+                hs.add(tuple((i, not v) for i, v in fail))
                 calls["learned"] += 1
                 continue
+            sim = simulate_ground(family.specialize(sel), plan)
             opt = np_.optimal(sel)
             calls["opt_calls"] += 1
             if opt.status != Status.OPTIMAL:

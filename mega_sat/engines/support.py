@@ -298,3 +298,85 @@ def causal_support(
         elif g:
             fixed.add(g[0])
     return tuple(sorted((i, i in selection) for i in fixed))
+
+
+def failure_core(
+    family: GroundFamily, selection: frozenset[int], plan: Sequence[PlanStep]
+) -> tuple[GuardLit, ...] | None:
+    """Literals under which ``plan`` fails in every selection satisfying them, where ``plan``
+    does not run in ``human + selection``; ``None`` if it runs there.
+
+    Much smaller than :func:`support`: only the first failure matters.  The failing component
+    (the step's schema existence, its violated (negative) precondition, or the missed goal)
+    keeps its guard, and the atom it looks at keeps its value at that point along the causal
+    link of :func:`causal_support` (the last achiever or deleter and the absent entries after
+    it).  In a selection satisfying the literals either an earlier step fails, or every earlier
+    step runs with those same entries deciding the atom, so the same component fails.
+    """
+    from mega_sat.ground.family import holds
+
+    acts = [family.actions[family.action_index[s]] for s in plan]
+    fixed: set[int] = set()
+    init_entries: dict[int, list] = {}
+    for p, g in family.init:
+        init_entries.setdefault(p, []).append(g)
+
+    def entries(a, p: int, kind: str):
+        return [g for q, g in (a.add if kind == "add" else a.delete) if q == p]
+
+    def pin(p: int, t: int, value: bool) -> None:
+        """Fix the guards that keep ``p`` at ``value`` just before step ``t`` (as in
+        :func:`causal_support`)."""
+        for s in range(t - 1, -1, -1):
+            a = acts[s]
+            adds = entries(a, p, "add")
+            if value:
+                present = [g for g in adds if holds(g, selection)]
+                if present:
+                    if None not in present:
+                        fixed.add(present[0][0])
+                    return
+                fixed.update(g[0] for g in entries(a, p, "delete") if g)
+            else:
+                fixed.update(g[0] for g in adds if g)
+                dels = [g for g in entries(a, p, "delete") if holds(g, selection)]
+                if dels:
+                    if dels[0]:
+                        fixed.add(dels[0][0])
+                    return
+        here = init_entries.get(p, [])
+        if not value:
+            fixed.update(g[0] for g in here if g)
+        elif None not in here:
+            fixed.add(next(g for g in here if holds(g, selection))[0])
+
+    def core() -> tuple[GuardLit, ...]:
+        return tuple(sorted((i, i in selection) for i in fixed))
+
+    state = {p for p, g in family.init if holds(g, selection)}
+    for t, a in enumerate(acts):
+        if not holds(a.exists, selection):
+            fixed.add(a.exists[0])
+            return core()
+        for p, g in a.pre:
+            if p not in state and holds(g, selection):
+                if g:
+                    fixed.add(g[0])
+                pin(p, t, False)
+                return core()
+        for p, g in a.negpre:
+            if p in state and holds(g, selection):
+                if g:
+                    fixed.add(g[0])
+                pin(p, t, True)
+                return core()
+        dels = {p for p, g in a.delete if holds(g, selection)}
+        adds = {p for p, g in a.add if holds(g, selection)}
+        state = (state - dels) | adds
+    for p, g in family.goal:
+        if p not in state and holds(g, selection):
+            if g:
+                fixed.add(g[0])
+            pin(p, len(acts), False)
+            return core()
+    return None
