@@ -393,7 +393,13 @@ def frontier(run, as_json, do_verify, write_model, force, verbose, plot=None, **
     default=None,
     help="Plan to explain (default: a robot-optimal plan).",
 )
-@click.option("--planner", type=PLANNER, default="builtin", show_default=True)
+@click.option(
+    "--planner",
+    type=PLANNER,
+    default=None,
+    help="Optimal planner for the robot plan and the candidate models.  [default: portfolio, "
+    "builtin if some action costs 0]",
+)
 @click.option("--hitting-set", type=HITTING, default="rc2", show_default=True)
 @update_costs_option
 @click.option(
