@@ -307,3 +307,33 @@ def test_a_run_stopped_by_its_limit_before_any_answer_is_a_timeout(engine):
     assert rec["status"] == "timeout", rec
     assert "time limit" in rec["error"] and rec["seconds"] >= 0
     assert fmt_seconds({**rec, "time_limit_s": 1e-6}).startswith("> ")
+
+
+def test_generate_skips_draws_whose_cost_terms_are_undefined():
+    """A cost table defined only where a precondition allows the action (elevators' travel
+    costs): a draw that drops that precondition makes undefined terms reachable.  Such a draw is
+    no task; generate moves on to the next one instead of stopping with the grounding error."""
+    from mega_sat.bench.generate import generate_human
+    from mega_sat.ground.grounding import ground
+    from mega_sat.model.task import TwoModelTask
+    from mega_sat.pddl.reader import parse_model
+
+    domain = """(define (domain d) (:requirements :strips :action-costs)
+      (:predicates (at ?x) (road ?x ?y) (seen ?x))
+      (:functions (total-cost) - number (dist ?x ?y) - number)
+      (:action go :parameters (?x ?y) :precondition (and (at ?x) (road ?x ?y))
+        :effect (and (at ?y) (not (at ?x)) (increase (total-cost) (dist ?x ?y))))
+      (:action look :parameters (?x) :precondition (at ?x)
+        :effect (and (seen ?x) (increase (total-cost) 1))))"""
+    problem = """(define (problem p) (:domain d) (:objects a b c)
+      (:init (at a) (road a b) (road b c) (= (dist a b) 2) (= (dist b c) 3))
+      (:goal (and (at c) (seen b))) (:metric minimize (total-cost)))"""
+    robot = parse_model(domain, problem)
+    dropped = 0
+    for seed in range(12):
+        g = generate_human(robot, 2, seed, time_budget=30)
+        task = TwoModelTask.from_models(robot, g.human)
+        ground(task)  # every model the generated task stands for has its costs
+        assert len(task.delta) == 2
+        dropped += g.attempts > 1
+    assert dropped > 0  # some seed met a draw without costs and went on

@@ -112,7 +112,8 @@ def generate_human(
     A candidate ``Update(f, True)`` above means "the robot has f and the human will not"
     (a removal from the human's view); ``Update(f, False)`` "the human will believe f".
     """
-    from mega_sat.ground.grounding import ground_model
+    from mega_sat.errors import PDDLError
+    from mega_sat.ground.grounding import ground, ground_model
     from mega_sat.model.task import TwoModelTask
     from mega_sat.search.astar import solve_optimal
 
@@ -158,7 +159,14 @@ def generate_human(
         task = TwoModelTask.from_models(robot, human)
         if len(task.delta) != k:
             continue
-        h = solve_optimal(ground_model(human), time_limit=min(time_limit, left))
+        try:
+            # a dropped precondition can make an action reachable whose cost term the
+            # problem leaves undefined (elevators' travel tables): that draw is no task
+            ground(task)
+            human_task = ground_model(human)
+        except PDDLError:
+            continue
+        h = solve_optimal(human_task, time_limit=min(time_limit, left))
         if h.status == "timeout" and left < time_limit:
             # cut short by the budget, not by its own limit: stop here rather than move on to
             # the next draw, so that a found instance never depends on the machine's speed
