@@ -406,6 +406,14 @@ class Options:
             "doc": "nodes of the built-in planner's blind search before it switches to LM-cut"
         },
     )
+    builtin_fd_after_blind: bool = field(
+        default=True,
+        metadata={
+            "doc": "the built-in planner hands a call its blind search did not settle to Fast "
+            "Downward's A* with LM-cut (when installed) instead of its own LM-cut, which is "
+            "pure Python"
+        },
+    )
     superset_check_limit: int = field(
         default=64,
         metadata={

@@ -130,3 +130,44 @@ def test_costs_fd_cannot_sum_are_kept_from_it(tmp_path):
     )
     if fd_available():
         assert checker_for("portfolio", small.family) == "fd"
+
+
+@needs_fd
+def test_the_builtin_planner_hands_fd_what_its_blind_search_did_not_settle(monkeypatch):
+    """With ``builtin_fd_after_blind`` a call whose blind search passes ``blind_nodes`` is
+    answered by FD's A* with LM-cut (the same optimum as the built-in LM-cut); a failing FD
+    leaves the call to the built-in planner."""
+    from mega_sat.api import load_task_dir
+    from mega_sat.ground.grounding import ground
+    from mega_sat.options import Options
+    from mega_sat.planners.node_planner import NodePlanner
+
+    root = Path(__file__).resolve().parents[1]
+    task = load_task_dir(root / "domains/blocksworld/delta/7/p3")
+    fam = ground(task)
+    handed = []
+    real_fd = NodePlanner._fd
+
+    def fd(self, *a):
+        handed.append(a[0])
+        return real_fd(self, *a)
+
+    monkeypatch.setattr(NodePlanner, "_fd", fd)
+    sels = [frozenset(), fam.robot_selection]
+    optimum = {}
+    for n in (10, 1_000_000):
+        for sel in sels:
+            for on in (True, False):
+                options = Options(blind_nodes=n, builtin_fd_after_blind=on)
+                r = NodePlanner(task, fam, "builtin", options=options).optimal(sel)
+                assert r.status.decided
+                assert optimum.setdefault(sel, r.cost) == r.cost
+    assert handed == sels  # only blind searches cut short at 10 nodes, and only when on
+
+    def broken(self, *a):
+        raise PlannerError("Fast Downward failed")
+
+    monkeypatch.setattr(NodePlanner, "_fd", broken)
+    options = Options(blind_nodes=10)
+    r = NodePlanner(task, fam, "builtin", options=options).optimal(frozenset())
+    assert r.status.decided and r.cost == optimum[frozenset()]

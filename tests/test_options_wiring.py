@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import json
 import re
-from dataclasses import fields
+from dataclasses import fields, replace
 from pathlib import Path
 
 import pytest
@@ -49,9 +49,12 @@ def test_solver_hands_its_options_to_every_planner_call(monkeypatch):
 
     monkeypatch.setattr(search, "solve_optimal", spy)
     task = usar_like()
-    plain = api.MegaSolver(task, engine="astar", planner="builtin").frontier()
+    own = Options(builtin_fd_after_blind=False)  # the built-in LM-cut, whether FD is there or not
+    plain = api.MegaSolver(task, engine="astar", planner="builtin", options=own).frontier()
     n = len(seen)
-    tuned = api.MegaSolver(task, engine="astar", planner="builtin", options=Options(blind_nodes=7))
+    tuned = api.MegaSolver(
+        task, engine="astar", planner="builtin", options=replace(own, blind_nodes=7)
+    )
     fr = tuned.frontier()
     ex = tuned.explain()
     tuned.verify(ex, producer="sat")

@@ -174,6 +174,10 @@ class NodePlanner:
         if self.kind == "builtin":
             from mega_sat.search.astar import solve_optimal
 
+            if self.options.builtin_fd_after_blind and self._fd_installed():
+                r = self._blind_then_fd(sel, task, call)
+                if r is not None:
+                    return answer(r.status, r.plan, r.cost, reason=r.reason)
             r = solve_optimal(task, deadline=call, blind_nodes=self.options.blind_nodes)
             return answer(r.status, r.plan, r.cost, reason=r.reason)
         if self.kind == "sat":
@@ -391,6 +395,23 @@ class NodePlanner:
             return PlanResult(status, plan, cost, True, "builtin", elapsed, method)
         finally:
             child.stop()
+
+    def _blind_then_fd(
+        self, sel: frozenset[int], task: GroundTask, call: Deadline
+    ) -> PlanResult | None:
+        """The built-in planner's blind search, and Fast Downward's A* with LM-cut where it
+        passes ``blind_nodes``: the same optimum as the built-in LM-cut that would follow,
+        without paying for LM-cut in pure Python per state.  ``None`` when FD fails: the
+        built-in planner answers instead."""
+        from mega_sat.search.astar import astar
+
+        r = astar(task, heuristic="blind", deadline=call, node_limit=self.options.blind_nodes)
+        if r.status != Status.LIMIT:
+            return r
+        try:
+            return self._fd(sel, task, call)
+        except PlannerError:
+            return None
 
     def _fd_installed(self) -> bool:
         if self._has_fd is None:
