@@ -176,6 +176,19 @@ def test_preferences_are_named_when_refused():
         parse_model(dom, prob)
 
 
+def test_cost_effects_without_the_action_costs_flag_keep_their_costs():
+    """IPC 2011's floortile declares only :typing and has cost effects; Fast Downward reads the
+    costs, and so does mega-sat (an action without a cost effect then costs 0)."""
+    dom = """(define (domain base) (:requirements :strips)
+      (:predicates (p ?x) (q ?x)) (:functions (total-cost) - number)
+      (:action a :parameters (?x) :precondition (p ?x)
+        :effect (and (q ?x) (increase (total-cost) 2)))
+      (:action b :parameters (?x) :precondition (q ?x) :effect (p ?x)))"""
+    prob = "(define (problem x) (:domain base) (:objects o) (:init (p o)) (:goal (q o)))"
+    m = parse_model(dom, prob)
+    assert m.uses_costs and m.schemas["a"].cost == 2 and m.schemas["b"].cost == 0
+
+
 def test_adl_flag_accepted_when_no_unsupported_construct_is_used():
     dom = BASE_DOMAIN.read_text().replace(":negative-preconditions", ":adl :equality")
     m = parse_model(dom, BASE_PROBLEM.read_text())
@@ -249,7 +262,6 @@ def test_unsupported_problem_constructs(name, construct, line):
         ("undefined-type", "undefined type 'city' in the parameters of action 'a'", 6),
         ("undefined-variable", "undefined variable '?y' in the effect of action 'a'", 7),
         ("type-predicate-collision", "'p' is both a type and a predicate", 5),
-        ("cost-without-requirement", "needs the requirement :action-costs", 8),
         ("syntax", "syntax error: unexpected ':effect'", 8),
     ],
 )

@@ -486,8 +486,9 @@ class Checker:
             )
         if not info.uses_total_cost:
             raise self.fail("(total-cost) is used but not declared in :functions", node)
-        if ":action-costs" not in info.requirements:
-            raise self.fail("(increase (total-cost) ...) needs the requirement :action-costs", node)
+        # a cost effect without the flag (IPC 2011's floortile): read with its costs, as Fast
+        # Downward reads it
+        info.requirements.add(":action-costs")
         if isinstance(value, Tok):
             if not INT_RE.fullmatch(value.text) or value.text.startswith("-"):
                 raise self.refuse(
