@@ -249,6 +249,14 @@ class Options:
             "(see unsolvable_core_trial_states)"
         },
     )
+    joint_sat_conflicts: int = field(
+        default=50_000,
+        metadata={
+            "zero": True,
+            "doc": "SAT conflicts a JOINT call under --joint sat may take before the paired-state "
+            "search answers it instead (0: no limit)",
+        },
+    )
     portfolio_conflicts: int = field(
         default=5000,
         metadata={"doc": "first SAT conflict budget of a JOINT call under --joint portfolio"},

@@ -76,6 +76,20 @@ def test_sat_engine_takes_quick_nodes_and_core_work():
     assert tuned.stats["opt_by_quick_search"] <= plain.stats["opt_by_quick_search"]
 
 
+def test_a_joint_call_sat_has_not_settled_goes_to_the_search():
+    """Under ``--joint sat`` a JOINT call past ``joint_sat_conflicts`` is answered by the
+    paired-state search: the same frontier, still exact."""
+    root = Path(__file__).resolve().parents[1]
+    task = api.load_task_dir(root / "domains/blocksworld/delta/7/p1")
+    plain = api.MegaSolver(task, joint="sat", options=Options(joint_sat_conflicts=0)).frontier()
+    capped = api.MegaSolver(task, joint="sat", options=Options(joint_sat_conflicts=1)).frontier()
+    assert [(p.size, p.robot_cost) for p in capped.points] == [
+        (p.size, p.robot_cost) for p in plain.points
+    ]
+    assert capped.exact and plain.exact
+    assert capped.stats["joint_searches"] > plain.stats["joint_searches"]
+
+
 def test_solver_refuses_options_of_another_type():
     with pytest.raises(UsageError, match="mega_sat.options.Options"):
         api.MegaSolver(usar_like(), options={"quick_nodes": 1})

@@ -229,9 +229,10 @@ def sat_frontier(
         ``plan`` (a plan of ``human + sel`` within ``human_bound``) as a hint."""
         if joint == "search":
             return None
-        caps = [
-            c for c in (budget.conflicts if joint == "portfolio" else None, cap) if c is not None
-        ]
+        # under --joint sat a call SAT has not settled after joint_sat_conflicts goes to the
+        # paired-state search (a long horizon's optimality proof can take SAT minutes)
+        own = budget.conflicts if joint == "portfolio" else options.joint_sat_conflicts or None
+        caps = [c for c in (own, cap) if c is not None]
         t_sat = time.perf_counter()
         res = orc.joint(
             sel,
