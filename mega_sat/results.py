@@ -238,7 +238,7 @@ def choose(frontier: Frontier, alpha: float) -> Solution:
 
             bound = frontier.next_cost_lower_bound
             weighted = frontier.update_costs is not None
-            raise TimeLimitReached(detail=None if bound is None else needs(bound, weighted))
+            raise TimeLimitReached(detail=needs(bound, weighted) if bound else None)
         from mega_sat.errors import UnsolvableError
 
         raise UnsolvableError("no MEGA solution found")

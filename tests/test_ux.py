@@ -121,8 +121,21 @@ def test_sat_engine_stopped_before_any_point_says_no_point():
     task = api.load_task_dir(USAR)
     fr = sat_frontier(task, ground(task), deadline=_ExpiredAfterStart())
     assert not fr.points and not fr.complete and fr.next_size_lower_bound == 0
-    assert fr.notes[-1].endswith("no point found yet; any solution needs |E| >= 0")
-    assert "last point" not in " ".join(fr.notes)
+    # a bound of 0 holds for every solution: the note does not offer it as news
+    assert fr.notes[-1].endswith("frontier incomplete; no point found yet")
+    assert "last point" not in " ".join(fr.notes) and ">= 0" not in " ".join(fr.notes)
+
+
+def test_a_vacuous_bound_is_left_out_of_the_notes():
+    from mega_sat.engines.progress import lower_bound_note
+
+    assert lower_bound_note(0, True) == ""
+    assert lower_bound_note(0, False) == "no point found yet"
+    assert lower_bound_note(3, True).endswith("needs |E| >= 3")
+    assert (
+        lower_bound_note(2, False, weighted=True)
+        == "no point found yet; any solution needs cost(E) >= 2"
+    )
 
 
 def test_api_docs_name_every_exported_function():

@@ -217,9 +217,10 @@ def multi_frontier(
     def stopped(at_cost: int) -> None:
         nonlocal lower_bound
         lower_bound = at_cost
+        note = lower_bound_note(at_cost, bool(points), weighted)
         notes.append(
-            f"time limit {deadline.seconds}s reached: frontier incomplete; "
-            + lower_bound_note(at_cost, bool(points), weighted)
+            f"time limit {deadline.seconds}s reached: frontier incomplete"
+            + (f"; {note}" if note else "")
         )
 
     for sel in selections_by_cost(costs):

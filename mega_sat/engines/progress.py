@@ -29,6 +29,8 @@ def lower_bound_note(bound: int, have_points: bool, weighted: bool = False) -> s
     """What a lower bound on the explanation cost (|E|, or cost(E) with update costs) from the
     hitting set proves: with points, about the solutions cheaper than the last one (the loop's
     robot-cost bound); without, about every solution."""
+    if bound <= 0:  # true of every solution, so it says nothing
+        return "" if have_points else "no point found yet"
     if have_points:
         what = "cost(E)" if weighted else "|E|"
         return f"any solution cheaper than the last point needs {what} >= {bound}"
@@ -86,7 +88,8 @@ class Progress:
         notes = [*self.notes, reason]
         weighted = self.update_costs is not None
         if self.lower_bound is not None:
-            notes[-1] += "; " + lower_bound_note(self.lower_bound, bool(self.points), weighted)
+            note = lower_bound_note(self.lower_bound, bool(self.points), weighted)
+            notes[-1] += f"; {note}" if note else ""
         return Frontier(
             engine=self.engine,
             robot_optimal_cost=self.robot_optimal_cost,

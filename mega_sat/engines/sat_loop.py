@@ -216,9 +216,10 @@ def sat_frontier(
             lower_bound = None if nxt is None else cost_of(nxt)
             complete = nxt is None
         if not complete:
+            note = lower_bound_note(lower_bound, bool(points), weighted)
             notes.append(
-                f"time limit {deadline.seconds}s reached: frontier incomplete; "
-                + lower_bound_note(lower_bound, bool(points), weighted)
+                f"time limit {deadline.seconds}s reached: frontier incomplete"
+                + (f"; {note}" if note else "")
             )
 
     first_joint = options.joint_before_opt and joint != "search"
