@@ -189,6 +189,23 @@ def test_cost_effects_without_the_action_costs_flag_keep_their_costs():
     assert m.uses_costs and m.schemas["a"].cost == 2 and m.schemas["b"].cost == 0
 
 
+def test_equality_declared_as_a_predicate_is_left_out():
+    """``(= ?x ?y)`` in :predicates (written for Fast Downward) declares the built-in equality:
+    the declaration is read and dropped; using equality is still refused, with its line."""
+    dom = """(define (domain d) (:requirements :strips)
+      (:predicates (p ?x) (= ?x - object ?y - object))
+      (:action a :parameters (?x) :precondition (p ?x) :effect (not (p ?x))))"""
+    prob = "(define (problem x) (:domain d) (:objects o) (:init (p o)) (:goal (and)))"
+    assert parse_model(dom, prob).predicates == {"p": 1}
+    only = dom.replace("(p ?x) (= ?x", "(= ?x").replace(
+        "(p ?x) :effect (not (p ?x))", "(and) :effect (and)"
+    )
+    assert parse_model(only, prob.replace("(p o)", "")).predicates == {}
+    used = dom.replace(":precondition (p ?x)", ":precondition (and (p ?x) (= ?x ?x))")
+    with pytest.raises(PDDLError, match=r"line 3: equality"):
+        parse_model(used, prob)
+
+
 def test_adl_flag_accepted_when_no_unsupported_construct_is_used():
     dom = BASE_DOMAIN.read_text().replace(":negative-preconditions", ":adl :equality")
     m = parse_model(dom, BASE_PROBLEM.read_text())

@@ -322,7 +322,16 @@ class Checker:
             info.edits.append((node.start, node.end, text))
 
     def predicates(self, node: SList, info: DomainInfo) -> None:
-        for p in node.items[1:]:
+        declared = node.items[1:]
+        for p in declared:
+            if isinstance(p, SList) and p.head == "=" and len(p.items) > 1:
+                # equality declared as a predicate (as some domains for Fast Downward do):
+                # built in, so the declaration is left out; using it is refused where it is used
+                whole = all(isinstance(q, SList) and q.head == "=" for q in declared)
+                info.edits.append((node.start, node.end, "") if whole else (p.start, p.end, ""))
+                if whole:
+                    return
+                continue
             if not isinstance(p, SList) or p.head is None:
                 raise self.fail(f"malformed predicate declaration {show(p)}", p)
             args = self.typed_list(p.items[1:], f"predicate '{p.head}'", either_ok=True)
