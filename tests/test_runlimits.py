@@ -621,3 +621,25 @@ def test_closed_stdout_is_an_error(args):
     _, err = proc.communicate(timeout=WAIT)
     assert proc.returncode == 74
     assert "standard output" in _one_error_line(err)
+
+
+def test_verify_cut_short_by_the_limit_reports_the_checks_it_finished(monkeypatch):
+    """The two validity checks are done before the optimum of human + E is re-derived; a time
+    limit there says what was checked instead of nothing."""
+    from mega_sat import api
+    from mega_sat.deadline import TimeLimitReached
+    from mega_sat.planners.node_planner import NodePlanner
+
+    task = api.load_task_dir(ROOT / "domains/usar-fetch/p1")
+    point = api.MegaSolver(task).frontier().points[0]
+
+    def slow(self, selection):
+        raise TimeLimitReached(3.0, forced=True)
+
+    monkeypatch.setattr(NodePlanner, "optimal", slow)
+    with pytest.raises(TimeLimitReached) as info:
+        api.MegaSolver(task).verify(point)
+    assert info.value.forced
+    assert info.value.detail.startswith("checked: valid in robot model: ok (cost ")
+    assert "valid in human + E: ok" in info.value.detail
+    assert "; not checked: optimal in human + E (by " in info.value.detail

@@ -12,7 +12,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from mega_sat.deadline import Deadline
+from mega_sat.deadline import Deadline, TimeLimitReached
 from mega_sat.ground.family import GroundFamily
 from mega_sat.ground.simulate import simulate, step_mismatch
 from mega_sat.model.lifted import PlanStep, step_str
@@ -244,7 +244,17 @@ def verify_pair(
         )
     kind = checker or checker_for(producer, family)
     checker = NodePlanner(task, family, kind, oracles=oracles, deadline=deadline, options=options)
-    opt = checker.optimal(frozenset(selection))
+    try:
+        opt = checker.optimal(frozenset(selection))
+    except TimeLimitReached as e:
+        # the checks done so far are finished answers (even when the backstop timer cut the
+        # planner short): say them rather than nothing at all
+        done = "; ".join(f"{c.name}: {'ok' if c.ok else 'FAILED'} ({c.detail})" for c in checks)
+        raise TimeLimitReached(
+            e.seconds,
+            forced=e.forced,
+            detail=f"checked: {done}; not checked: optimal in human + E (by {kind})",
+        ) from None
     if opt.status == Status.OPTIMAL:
         good = sim_h.valid and sim_h.cost == opt.cost
         detail = f"optimum of human + E by {kind}: {opt.cost}; plan: {sim_h.cost}"
