@@ -212,6 +212,52 @@ def tight_support(
     return tuple(sorted((i, i in selection) for i in fixed))
 
 
+class _Links:
+    """The causal links of a plan's run in ``human + selection``: :meth:`pin` fixes, in
+    ``fixed``, the guards that keep an atom at its value before a step (shared by
+    :func:`causal_support` and :func:`failure_core`)."""
+
+    def __init__(self, family: GroundFamily, acts: list, selection: frozenset[int]):
+        self.acts, self.selection = acts, selection
+        self.fixed: set[int] = set()
+        self.init_entries: dict[int, list] = {}
+        for p, g in family.init:
+            self.init_entries.setdefault(p, []).append(g)
+        self._pinned: set[tuple[int, int, bool]] = set()
+
+    def pin(self, p: int, t: int, value: bool) -> None:
+        """Fix the guards that keep ``p`` at ``value`` just before step ``t``."""
+        from mega_sat.ground.family import holds
+
+        if (p, t, value) in self._pinned:
+            return
+        self._pinned.add((p, t, value))
+        fixed, selection = self.fixed, self.selection
+        for s in range(t - 1, -1, -1):
+            a = self.acts[s]
+            adds = [g for q, g in a.add if q == p]
+            if value:
+                present = [g for g in adds if holds(g, selection)]
+                if present:  # the last achiever: one present add keeps p true after s
+                    if None not in present:
+                        fixed.add(present[0][0])
+                    return
+                # not added here, and p stays true: every delete of p here is absent
+                fixed.update(g[0] for q, g in a.delete if q == p and g)
+            else:
+                fixed.update(g[0] for g in adds if g)  # every add absent, stays absent
+                dels = [g for q, g in a.delete if q == p and holds(g, selection)]
+                if dels:
+                    if dels[0]:
+                        fixed.add(dels[0][0])
+                    return  # the last deleter
+        here = self.init_entries.get(p, [])
+        if not value:
+            fixed.update(g[0] for g in here if g)  # absent initially, and stays absent
+        elif None not in here:
+            fixed.add(next(g for g in here if holds(g, selection))[0])
+
+
 def causal_support(
     family: GroundFamily, selection: frozenset[int], plan: Sequence[PlanStep]
 ) -> tuple[GuardLit, ...]:
@@ -231,7 +277,6 @@ def causal_support(
     from mega_sat.ground.family import holds
 
     acts = [family.actions[family.action_index[s]] for s in plan]
-    fixed: set[int] = set()
     # the trajectory in human + selection: states[t] holds before step t
     state = {p for p, g in family.init if holds(g, selection)}
     states = [state]
@@ -240,42 +285,9 @@ def causal_support(
         adds = {p for p, g in a.add if holds(g, selection)}
         state = (state - dels) | adds
         states.append(state)
-    init_entries: dict[int, list] = {}
-    for p, g in family.init:
-        init_entries.setdefault(p, []).append(g)
-    pinned: set[tuple[int, int, bool]] = set()
-
-    def entries(a, p: int, kind: str):
-        return [g for q, g in (a.add if kind == "add" else a.delete) if q == p]
-
-    def pin(p: int, t: int, value: bool) -> None:
-        """Fix the guards that keep ``p`` at ``value`` just before step ``t``."""
-        if (p, t, value) in pinned:
-            return
-        pinned.add((p, t, value))
-        for s in range(t - 1, -1, -1):
-            a = acts[s]
-            adds = entries(a, p, "add")
-            if value:
-                present = [g for g in adds if holds(g, selection)]
-                if present:  # the last achiever: one present add keeps p true after s
-                    if None not in present:
-                        fixed.add(present[0][0])
-                    return
-                # not added here, and p stays true: every delete of p here is absent
-                fixed.update(g[0] for g in entries(a, p, "delete") if g)
-            else:
-                fixed.update(g[0] for g in adds if g)  # every add absent, stays absent
-                if any(holds(g, selection) for g in entries(a, p, "delete")):
-                    dels = [g for g in entries(a, p, "delete") if holds(g, selection)]
-                    if dels[0]:
-                        fixed.add(dels[0][0])
-                    return  # the last deleter
-        here = init_entries.get(p, [])
-        if not value:
-            fixed.update(g[0] for g in here if g)  # absent initially, and stays absent
-        elif None not in here:
-            fixed.add(next(g for g in here if holds(g, selection))[0])
+    links = _Links(family, acts, selection)
+    fixed = links.fixed
+    pin = links.pin
 
     for t, a in enumerate(acts):
         if a.exists:
@@ -316,39 +328,9 @@ def failure_core(
     from mega_sat.ground.family import holds
 
     acts = [family.actions[family.action_index[s]] for s in plan]
-    fixed: set[int] = set()
-    init_entries: dict[int, list] = {}
-    for p, g in family.init:
-        init_entries.setdefault(p, []).append(g)
-
-    def entries(a, p: int, kind: str):
-        return [g for q, g in (a.add if kind == "add" else a.delete) if q == p]
-
-    def pin(p: int, t: int, value: bool) -> None:
-        """Fix the guards that keep ``p`` at ``value`` just before step ``t`` (as in
-        :func:`causal_support`)."""
-        for s in range(t - 1, -1, -1):
-            a = acts[s]
-            adds = entries(a, p, "add")
-            if value:
-                present = [g for g in adds if holds(g, selection)]
-                if present:
-                    if None not in present:
-                        fixed.add(present[0][0])
-                    return
-                fixed.update(g[0] for g in entries(a, p, "delete") if g)
-            else:
-                fixed.update(g[0] for g in adds if g)
-                dels = [g for g in entries(a, p, "delete") if holds(g, selection)]
-                if dels:
-                    if dels[0]:
-                        fixed.add(dels[0][0])
-                    return
-        here = init_entries.get(p, [])
-        if not value:
-            fixed.update(g[0] for g in here if g)
-        elif None not in here:
-            fixed.add(next(g for g in here if holds(g, selection))[0])
+    links = _Links(family, acts, selection)
+    fixed = links.fixed
+    pin = links.pin
 
     def core() -> tuple[GuardLit, ...]:
         return tuple(sorted((i, i in selection) for i in fixed))
