@@ -38,6 +38,8 @@ class TimeLimitReached(BaseException):  # noqa: N818 - the name says what happen
         self.detail = detail
         """What was proven before the limit, for the error line (e.g. a lower bound)."""
         text = "time limit reached" if seconds is None else f"time limit {seconds}s reached"
+        self.headline = text
+        """The message without ``detail``, for a note that says itself what was done."""
         super().__init__(text if detail is None else f"{text} ({detail})")
 
 

@@ -201,8 +201,9 @@ def _check_and_write(run, solver, points, do_verify, write_model, force):
         except (TimeLimitReached, Interrupted) as stop:
             run.quiet()
             run.stopped = stop
+            said = getattr(stop, "headline", stop)  # the count below says what was checked
             notes.append(
-                f"{stop} during --verify: {len(reports)} of {len(points)} point(s) checked"
+                f"{said} during --verify: {len(reports)} of {len(points)} point(s) checked"
                 + ("; --write-model skipped" if write_model else "")
             )
             return reports, notes
@@ -452,7 +453,7 @@ def explain(
         except (TimeLimitReached, Interrupted) as stop:
             run.quiet()
             run.stopped = stop
-            notes.append(f"{stop} during --verify: not checked")
+            notes.append(f"{getattr(stop, 'headline', stop)} during --verify: not checked")
     if as_json:
         d = ex.to_dict()
         if rep:
