@@ -167,6 +167,7 @@ def test_a_function_given_two_values_is_refused():
     with pytest.raises(PDDLError, match=r"line 2: \(f o\) is given two values \(3 and 9\)"):
         parse_model(dom, prob.format(9), problem_path="x.pddl")
     assert parse_model(dom, prob.format(3)).functions[("f", "o")] == 3
+    assert parse_model(dom, prob.format("3.0")).functions[("f", "o")] == 3  # the same value
 
 
 def test_preferences_are_named_when_refused():

@@ -127,8 +127,9 @@ class ProblemChecker(Checker):
                 f"cost function value {value.text} (costs must be non-negative integers)", el
             )
         key = tuple(t.text for t in term.items)
-        old = self.values.setdefault(key, int(value.text))
-        if old != int(value.text):  # which one counts would be a guess
+        number = int(value.text.split(".")[0])  # INT_RE: an integer, maybe written "2.0"
+        old = self.values.setdefault(key, number)
+        if old != number:  # which one counts would be a guess
             shown = f"({' '.join(key)})"
             raise self.fail(f"{shown} is given two values ({old} and {value.text})", el)
 
