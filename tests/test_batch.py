@@ -14,7 +14,7 @@ from pathlib import Path
 
 import pytest
 
-from mega_sat.cli.batch import find_task_dirs, read_done
+from mega_sat.cli.batch import find_task_dirs, read_done, read_task
 from mega_sat.errors import MegaSatError
 from mega_sat.executor import completed
 
@@ -109,6 +109,20 @@ def test_a_task_with_several_human_models_is_one_task(tmp_path):
         f"{task}/human-1/human-problem.pddl",
         f"{task}/human-2/human-problem.pddl",
     ]
+
+
+def test_human_k_folders_are_part_of_their_task(tmp_path):
+    """A human-K folder that also holds a robot problem is no task of its own, and human-01
+    beside human-1 is an error naming both (which one is meant would be a guess)."""
+    import shutil
+
+    task = tmp_path / "A"
+    shutil.copytree(ROOT / "domains/usar-two-commanders", task)
+    shutil.copy(task / "robot-problem.pddl", task / "human-2" / "robot-problem.pddl")
+    assert find_task_dirs([tmp_path]) == [task]
+    shutil.copytree(task / "human-1", task / "human-01")
+    with pytest.raises(MegaSatError, match="human-01/ and human-1/ both number human model 1"):
+        read_task(task)
 
 
 def test_messages_name_the_users_files(tmp_path):

@@ -27,7 +27,7 @@ from typing import Any
 from mega_sat.errors import EXIT_TIMEOUT, UsageError
 from mega_sat.output import OutputError, write_file
 from mega_sat.pddl.loading import TASK_FILES, resolve_task_dir
-from mega_sat.pddl.multi_task import human_dirs, resolve_multi_task_dir
+from mega_sat.pddl.multi_task import HUMAN_DIR, human_dirs, resolve_multi_task_dir
 
 GRACE_S = 10.0
 """How long past its own time limit a task's process may run before it is killed (the process
@@ -63,7 +63,11 @@ def find_task_dirs(paths: Iterable[str | Path]) -> list[Path]:
         if (p / TASK_FILES["robot_problem"]).is_file():
             found.append(p)
             continue
-        below = sorted(q.parent for q in p.rglob(TASK_FILES["robot_problem"]))
+        below = sorted(
+            q.parent
+            for q in p.rglob(TASK_FILES["robot_problem"])
+            if not (HUMAN_DIR.fullmatch(q.parent.name) and human_dirs(q.parent.parent))
+        )  # a human-K folder is part of its task, even one holding a robot problem
         if not below:
             raise UsageError(f"no task folder ({TASK_FILES['robot_problem']}) below", path=str(p))
         found += below

@@ -223,11 +223,16 @@ def human_dirs(task_dir: str | Path) -> list[Path]:
     d = Path(task_dir)
     if not d.is_dir():
         return []
-    found = {}
-    for c in d.iterdir():
+    found: dict[int, Path] = {}
+    for c in sorted(d.iterdir()):
         m = HUMAN_DIR.fullmatch(c.name)
         if m and c.is_dir():
-            found[int(m.group(1))] = c
+            k = int(m.group(1))
+            if k in found:  # human-1 and human-01: which one is meant is a guess
+                raise UsageError(
+                    f"{found[k].name}/ and {c.name}/ both number human model {k}", path=str(d)
+                )
+            found[k] = c
     return [found[k] for k in sorted(found)]
 
 
