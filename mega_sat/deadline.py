@@ -31,12 +31,19 @@ class TimeLimitReached(BaseException):  # noqa: N818 - the name says what happen
     exit_code = EXIT_TIMEOUT
 
     def __init__(
-        self, seconds: float | None = None, *, forced: bool = False, detail: str | None = None
+        self,
+        seconds: float | None = None,
+        *,
+        forced: bool = False,
+        detail: str | None = None,
+        partial: bool = False,
     ):
         self.seconds = seconds
         self.forced = forced
         self.detail = detail
         """What was proven before the limit, for the error line (e.g. a lower bound)."""
+        self.partial = partial
+        """``detail`` holds part of the answer (verify's finished checks), not only a bound."""
         text = "time limit reached" if seconds is None else f"time limit {seconds}s reached"
         self.headline = text
         """The message without ``detail``, for a note that says itself what was done."""

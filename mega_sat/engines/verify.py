@@ -254,6 +254,7 @@ def verify_pair(
             e.seconds,
             forced=e.forced,
             detail=f"checked: {done}; not checked: optimal in human + E (by {kind})",
+            partial=True,
         ) from None
     if opt.status == Status.OPTIMAL:
         good = sim_h.valid and sim_h.cost == opt.cost
