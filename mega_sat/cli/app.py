@@ -267,11 +267,9 @@ def _command(fn):
                     code = run.fail(e.exit_code, str(e))
                 except TimeLimitReached as e:
                     detail = f"; {e.detail}" if e.detail else ""
-                    when = (
-                        "before the answer was complete"
-                        if e.partial
-                        else ("before anything could be reported")
-                    )
+                    when = "before the answer was complete"
+                    if not e.partial:
+                        when = "before anything could be reported"
                     code = run.fail(
                         EXIT_TIMEOUT,
                         f"{run.deadline.describe()} reached {when}" + detail,

@@ -174,11 +174,13 @@ class NodePlanner:
         if self.kind == "builtin":
             from mega_sat.search.astar import solve_optimal
 
-            if self.options.builtin_fd_after_blind and self._fd_installed():
-                r = self._blind_then_fd(sel, task, call)
-                if r is not None:
-                    return answer(r.status, r.plan, r.cost, reason=r.reason)
-            r = solve_optimal(task, deadline=call, blind_nodes=self.options.blind_nodes)
+            fd = self.options.builtin_fd_after_blind and self._fd_installed()
+            r = solve_optimal(
+                task,
+                deadline=call,
+                blind_nodes=self.options.blind_nodes,
+                hand_over=(lambda limit: self._fd_or_none(sel, task, limit)) if fd else None,
+            )
             return answer(r.status, r.plan, r.cost, reason=r.reason)
         if self.kind == "sat":
             r = self.oracles.opt(sel)
@@ -396,18 +398,11 @@ class NodePlanner:
         finally:
             child.stop()
 
-    def _blind_then_fd(
-        self, sel: frozenset[int], task: GroundTask, call: Deadline
-    ) -> PlanResult | None:
-        """The built-in planner's blind search, and Fast Downward's A* with LM-cut where it
-        passes ``blind_nodes``: the same optimum as the built-in LM-cut that would follow,
+    def _fd_or_none(self, sel: frozenset[int], task: GroundTask, call: Deadline):
+        """Fast Downward's A* with LM-cut on a call the built-in blind search did not settle
+        (``Options.builtin_fd_after_blind``): the optimum the built-in LM-cut would find,
         without paying for LM-cut in pure Python per state.  ``None`` when FD fails: the
-        built-in planner answers instead."""
-        from mega_sat.search.astar import astar
-
-        r = astar(task, heuristic="blind", deadline=call, node_limit=self.options.blind_nodes)
-        if r.status != Status.LIMIT:
-            return r
+        built-in LM-cut answers instead."""
         try:
             return self._fd(sel, task, call)
         except PlannerError:

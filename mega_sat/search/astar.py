@@ -422,20 +422,27 @@ def solve_optimal(
     deadline: Deadline | None = None,
     blind_nodes: int = 300_000,
     time_limit: float | None = None,
+    hand_over: Callable[[Deadline], PlanResult | None] | None = None,
 ) -> PlanResult:
     """The built-in planner's portfolio: uniform-cost search first, A* with LM-cut after.
 
     Both are optimal, so the answer is exact either way.  On the small state spaces of model
     families blind search wins by a wide margin (LM-cut in pure Python costs milliseconds per
     state); when blind search passes ``blind_nodes`` expansions (``Options.blind_nodes``),
-    LM-cut's pruning pays off.  The search stops with ``TIMEOUT`` at ``deadline``, or after
-    ``time_limit`` seconds when that comes first (a limit of this call alone).
+    LM-cut's pruning pays off.  ``hand_over``, when given, answers in LM-cut's place (an
+    optimal planner outside this process, e.g. Fast Downward); its ``None`` leaves the call
+    to LM-cut.  The search stops with ``TIMEOUT`` at ``deadline``, or after ``time_limit``
+    seconds when that comes first (a limit of this call alone).
     """
     t0 = time.perf_counter()
     deadline = within(deadline, time_limit)
     r = astar(task, heuristic="blind", deadline=deadline, node_limit=blind_nodes)
     if r.status != Status.LIMIT:
         return r
+    if hand_over is not None:
+        other = hand_over(deadline)
+        if other is not None:
+            return other
     r2 = astar(task, heuristic="lmcut", deadline=deadline)
     return PlanResult(
         r2.status,
