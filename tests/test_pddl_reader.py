@@ -192,7 +192,7 @@ def test_cost_effects_without_the_action_costs_flag_keep_their_costs():
 
 def test_equality_declared_as_a_predicate_is_left_out():
     """``(= ?x ?y)`` in :predicates (written for Fast Downward) declares the built-in equality:
-    the declaration is read and dropped; using equality is still refused, with its line."""
+    the declaration is read and dropped, and equality in a precondition is read as usual."""
     dom = """(define (domain d) (:requirements :strips)
       (:predicates (p ?x) (= ?x - object ?y - object))
       (:action a :parameters (?x) :precondition (p ?x) :effect (not (p ?x))))"""
@@ -203,8 +203,8 @@ def test_equality_declared_as_a_predicate_is_left_out():
     )
     assert parse_model(only, prob.replace("(p o)", "")).predicates == {}
     used = dom.replace(":precondition (p ?x)", ":precondition (and (p ?x) (= ?x ?x))")
-    with pytest.raises(PDDLError, match=r"line 3: equality"):
-        parse_model(used, prob)
+    m = parse_model(used, prob)
+    assert m.predicates == {"p": 1, "=": 2} and ("=", "?x", "?x") in m.schemas["a"].pre
 
 
 def test_adl_flag_accepted_when_no_unsupported_construct_is_used():
@@ -229,7 +229,7 @@ def test_negative_initial_literals_are_ignored_and_total_cost_zero_ignored():
         ("or", "disjunction 'or'", 7),
         ("imply", "implication 'imply'", 7),
         ("not-and", "negation of a compound condition", 7),
-        ("equality", "equality '(= ...)'", 7),
+        ("equality", "equality '(= ...)' in an effect", 8),
         ("comparison", "numeric comparison '>'", 7),
         ("decrease", "numeric effect 'decrease'", 8),
         ("assign", "numeric effect 'assign'", 8),

@@ -21,6 +21,7 @@ from unified_planning.model.metrics import MinimizeActionCosts  # noqa: E402
 from unified_planning.plans import ActionInstance, SequentialPlan  # noqa: E402
 from unified_planning.shortcuts import (  # noqa: E402
     BoolType,
+    Equals,
     Exists,
     Fluent,
     InstantaneousAction,
@@ -38,8 +39,9 @@ ROOT = Path(__file__).resolve().parents[1]
 up.shortcuts.get_environment().credits_stream = None
 
 
-def _usar(human: bool) -> Problem:
-    """domains/usar-fetch p1 built in Python: the robot's map, or the commander's (human)."""
+def _usar(human: bool, distinct: bool = False) -> Problem:
+    """domains/usar-fetch p1 built in Python: the robot's map, or the commander's (human);
+    ``distinct``: ``move`` also requires ``(not (= ?a ?b))``."""
     wp = UserType("waypoint")
     robot_at = Fluent("robot_at", BoolType(), l=wp)
     clear_path = Fluent("clear_path", BoolType(), a=wp, b=wp)
@@ -49,6 +51,8 @@ def _usar(human: bool) -> Problem:
     a, b = move.parameters
     move.add_precondition(robot_at(a))
     move.add_precondition(clear_path(a, b))
+    if distinct:
+        move.add_precondition(Not(Equals(a, b)))
     move.add_effect(robot_at(a), False)
     move.add_effect(robot_at(b), True)
     clear = InstantaneousAction("clear_passage", a=wp, b=wp)
@@ -209,6 +213,12 @@ def test_up_plan_of_an_unknown_step_is_one_clear_error():
         to_up_plan([("fly", "p1", "p2")], _usar(False))
     with pytest.raises(MegaSatError, match=r"plan step '\(move p1\)' is no action"):
         to_up_plan([("move", "p1")], _usar(False))
+
+
+def test_equality_in_a_precondition_is_read():
+    task = api.load_task_from_up(_usar(False, distinct=True), _usar(False))
+    assert [u.name for u in task.delta] == ["add-move-has-negprecondition-= ?a ?b"]
+    assert api.frontier(task).exact
 
 
 def _conditional() -> Problem:

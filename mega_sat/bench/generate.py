@@ -26,7 +26,7 @@ from mega_sat.model.features import (
     Update,
     apply_updates,
 )
-from mega_sat.model.lifted import Atom, Model, Schema
+from mega_sat.model.lifted import EQUALITY, Atom, Model, Schema
 
 # seconds a generator searches for a solvable human model before it gives up
 DEFAULT_TIME_BUDGET = 120.0
@@ -50,7 +50,7 @@ def _param_types(s: Schema, type_preds: frozenset[str]) -> dict[str, frozenset[s
 
 def _candidate_updates(robot: Model, reachable: frozenset[Atom]) -> list[Update]:
     """Every single-feature change the generator may draw (removals and additions)."""
-    tp = robot.type_predicates
+    tp = robot.type_predicates | {EQUALITY}  # equality is built in: no belief to change
     cands: list[Update] = []
     # removals of robot features (type atoms excluded: those are not beliefs about the robot)
     for s in robot.schemas.values():

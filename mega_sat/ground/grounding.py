@@ -45,7 +45,7 @@ from mega_sat.model.features import (
     Update,
     cost_str,
 )
-from mega_sat.model.lifted import Atom, CostTerm, Model, Schema, atom_pddl
+from mega_sat.model.lifted import EQUALITY, Atom, CostTerm, Model, Schema, atom_pddl
 from mega_sat.model.task import TwoModelTask
 
 Binding = dict[str, str]
@@ -74,6 +74,10 @@ class _RelaxedSchema:
     params: tuple[str, ...]
     pre: tuple[Atom, ...]
     add: tuple[Atom, ...]
+    distinct: tuple[Atom, ...] = ()
+    """Negated equalities both models share: a grounding that makes one ``(= o o)`` is dead in
+    every member of the family, since ``(= o o)`` holds in both initial states and nothing
+    changes it."""
 
 
 class _Guards:
@@ -203,20 +207,47 @@ def _join(pres: list[Atom], binding: Binding, index: _AtomIndex) -> Iterator[Bin
 
 def _relaxed_schemas(robot: Model, human: Model) -> list[_RelaxedSchema]:
     out = []
+    static_equality = any(EQUALITY in m.predicates for m in (robot, human)) and _static_equality(
+        robot, human
+    )
     for name in sorted(set(robot.schemas) | set(human.schemas)):
         rs, hs = robot.schemas.get(name), human.schemas.get(name)
+        distinct: frozenset[Atom] = frozenset()
         if rs is not None and hs is not None:
             pre = rs.pre & hs.pre
             add = rs.add | hs.add
             params = rs.params
+            if static_equality:
+                distinct = frozenset(a for a in rs.negpre & hs.negpre if a[0] == EQUALITY)
         else:
             s = rs if rs is not None else hs
             assert s is not None
             # a one-model schema's components other than its signature are Delta features of
             # their own, so some E adds the schema with only its parameter types
             pre, add, params = s.signature, s.add, s.params
-        out.append(_RelaxedSchema(name, params, tuple(sorted(pre)), tuple(sorted(add))))
+        out.append(
+            _RelaxedSchema(
+                name, params, tuple(sorted(pre)), tuple(sorted(add)), tuple(sorted(distinct))
+            )
+        )
     return out
+
+
+def _static_equality(robot: Model, human: Model) -> bool:
+    """Whether ``=`` is PDDL's equality in both models: ``(= o o)`` in both initial states for
+    every object, and no schema adding or deleting an ``=`` atom."""
+    objects = robot.objects | human.objects
+    identity = {(EQUALITY, o, o) for o in objects}
+    return (
+        identity <= robot.init
+        and identity <= human.init
+        and not any(
+            a[0] == EQUALITY
+            for m in (robot, human)
+            for sc in m.schemas.values()
+            for a in (*sc.add, *sc.delete)
+        )
+    )
 
 
 def _ground_args(schema: _RelaxedSchema, binding: Binding, objects: list[str]) -> Iterator:
@@ -259,16 +290,21 @@ def _relaxed_reachability(
     queue: deque[Atom] = deque()
     actions: dict[str, set[tuple[str, ...]]] = {s.name: set() for s in schemas}
     adds = {s.name: [(a[0], _arg_getter(a[1:], s.params)) for a in s.add] for s in schemas}
+    distinct = {s.name: [_arg_getter(a[1:], s.params) for a in s.distinct] for s in schemas}
+    dead: set[tuple[str, tuple[str, ...]]] = set()
     unary = {s.name: _unary_slots(s) for s in schemas}
     count = 0
 
     def fire(s: _RelaxedSchema, groundings: Iterable[tuple[str, ...]]) -> None:
         nonlocal count
-        schema_adds, seen = adds[s.name], actions[s.name]
+        schema_adds, seen, differ = adds[s.name], actions[s.name], distinct[s.name]
         for args in groundings:
             if args in seen:
                 continue
             seen.add(args)
+            if differ and any(len(set(get(args))) == 1 for get in differ):
+                dead.add((s.name, args))  # it asks two equal objects to differ
+                continue
             count += 1
             if deadline is not None and count % _CHECK_EVERY == 0:
                 deadline.check()
@@ -312,7 +348,10 @@ def _relaxed_reachability(
                 fire(s, _ground_args(s, full, objects))
     index_of = {o: k for k, o in enumerate(objects)}
     return reached, [
-        (name, args) for name in sorted(actions) for args in _sorted_args(actions[name], index_of)
+        (name, args)
+        for name in sorted(actions)
+        for args in _sorted_args(actions[name], index_of)
+        if not dead or (name, args) not in dead
     ]
 
 

@@ -8,6 +8,10 @@ A :class:`Model` is a planning problem ``M = <D, I, G>`` in a normalised, untype
   ``?x - t`` becomes the precondition ``(t ?x)``.  This makes a difference in type hierarchies an
   ordinary, explainable model difference (an initial-state or precondition feature), which is
   what the two-model task needs;
+* equality is compiled away too: ``(= ?x ?y)`` in a precondition is the atom
+  ``(= ?x ?y)`` of the static predicate :data:`EQUALITY`, whose initial-state atoms are
+  ``(= o o)`` for every object ``o`` (:func:`with_equality`).  A negated equality is a
+  negative precondition.  Nothing adds or deletes it;
 * action costs are per schema: a constant or a static function term whose ground values come
   from the problem's initial state.
 
@@ -17,10 +21,13 @@ Atoms are plain tuples ``(predicate, arg, ...)``; lifted arguments start with ``
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 Atom = tuple[str, ...]
 """``(predicate, arg1, ...)``; arguments are object names or ``?param`` variables."""
+
+EQUALITY = "="
+"""The predicate of PDDL's built-in equality, static: its atoms are ``(= o o)``."""
 
 CostTerm = tuple[str, ...]
 """A static function term such as ``('road-length', '?from', '?to')``."""
@@ -102,3 +109,18 @@ class Model:
         binding = dict(zip(schema.params, args, strict=True))
         term = tuple(binding.get(x, x) for x in schema.cost)
         return self.functions[term]
+
+
+def uses_equality(model: Model) -> bool:
+    return EQUALITY in model.predicates
+
+
+def with_equality(model: Model, objects: frozenset[str]) -> Model:
+    """``model`` with the equality predicate and its atoms ``(= o o)`` for every object of
+    ``objects`` (the same set for both models of a task, so equality is never a difference)."""
+    init = frozenset(a for a in model.init if a[0] != EQUALITY)
+    return replace(
+        model,
+        predicates={**model.predicates, EQUALITY: 2},
+        init=init | {(EQUALITY, o, o) for o in objects},
+    )

@@ -13,7 +13,7 @@ from functools import cached_property
 
 from mega_sat.errors import ModelMismatchError, UsageError
 from mega_sat.model.features import Update, apply_updates, model_difference
-from mega_sat.model.lifted import Atom, Model, Schema
+from mega_sat.model.lifted import Atom, Model, Schema, uses_equality, with_equality
 
 Selection = frozenset[int]
 """A subset E of Delta, as indices into ``TwoModelTask.delta``."""
@@ -109,6 +109,10 @@ class TwoModelTask:
         cls, robot: Model, human: Model, sources: dict[str, str] | None = None
     ) -> TwoModelTask:
         sources = sources or {}
+        if uses_equality(robot) or uses_equality(human):
+            # equality is built in, not a belief: both models hold (= o o) for every object
+            objects = robot.objects | human.objects
+            robot, human = with_equality(robot, objects), with_equality(human, objects)
         human = align_human(
             robot,
             human,

@@ -6,8 +6,9 @@ construct mega-sat does not support.  This module checks the domain; the problem
 it in :mod:`mega_sat.pddl.check_problem`.
 
 * refused constructs: conditional effects (``when``), quantifiers (``forall``, ``exists``),
-  disjunctions (``or``, ``imply``, negated compound conditions), equality ``(= ?x ?y)``,
-  numeric comparisons, numeric effects other than ``(increase (total-cost) ...)``
+  disjunctions (``or``, ``imply``, negated compound conditions), equality ``(= ?x ?y)``
+  outside preconditions (in preconditions it is read, as the static predicate ``=``), numeric
+  comparisons, numeric effects other than ``(increase (total-cost) ...)``
   (``decrease``, ``assign``, ``scale-up``, ``scale-down``, increases of other functions),
   ``oneof``, ``either`` types (except in predicate and function declarations, whose argument
   types are ignored anyway), ``:derived``, ``:durative-action``, ``:process``, ``:event``,
@@ -234,11 +235,25 @@ class Checker:
                 kind = "constant" if variables is not None else "object"
                 raise self.fail(f"undefined {kind} '{a.text}' in {what}", a)
 
-    def equality_or_comparison(self, node: SList) -> PDDLError:
-        """``(= a b)``: equality of terms, or a numeric comparison when a side is a term."""
-        if any(isinstance(x, SList) or NUMBER_RE.fullmatch(x.text) for x in node.items[1:]):
+    def equality_or_comparison(self, node: SList, where: str = "") -> PDDLError:
+        """``(= a b)`` where it is not read: equality of terms, or a numeric comparison when a
+        side is a term."""
+        if self.is_numeric(node):
             return self.refuse("numeric comparison '='", node)
-        return self.refuse("equality '(= ...)'", node)
+        return self.refuse(f"equality '(= ...)'{where}", node)
+
+    @staticmethod
+    def is_numeric(node: SList) -> bool:
+        return any(isinstance(x, SList) or NUMBER_RE.fullmatch(x.text) for x in node.items[1:])
+
+    def equality(self, node: SList, info: DomainInfo, variables: set[str], what: str) -> None:
+        """``(= t1 t2)`` of two terms in a precondition: read as the static predicate ``=``
+        (:data:`mega_sat.model.lifted.EQUALITY`)."""
+        if self.is_numeric(node):
+            raise self.refuse("numeric comparison '='", node)
+        if len(node.items) != 3:
+            raise self.fail(f"'=' takes 2 arguments, got {len(node.items) - 1} in {what}", node)
+        self.terms(node.items[1:], variables, info.constants, what)
 
     # -- domain --------------------------------------------------------------------------------
 
@@ -326,7 +341,7 @@ class Checker:
         for p in declared:
             if isinstance(p, SList) and p.head == "=" and len(p.items) > 1:
                 # equality declared as a predicate (as some domains for Fast Downward do):
-                # built in, so the declaration is left out; using it is refused where it is used
+                # built in, so the declaration is left out
                 whole = all(isinstance(q, SList) and q.head == "=" for q in declared)
                 info.edits.append((node.start, node.end, "") if whole else (p.start, p.end, ""))
                 if whole:
@@ -441,12 +456,15 @@ class Checker:
                 raise self.fail(f"malformed 'not' in {what}", node)
             sub = node.items[1]
             if sub.head == "=":
-                raise self.equality_or_comparison(sub)
+                self.equality(sub, info, variables, what)
+                return
             if sub.head in KEYWORDS or sub.head is None:
                 raise self.refuse(f"negation of a compound condition '(not ({sub.head} ...))'", sub)
             self.atom(sub, info, variables, info.constants, what)
         elif head == "=":
-            raise self.equality_or_comparison(node)
+            if goal:
+                raise self.equality_or_comparison(node, " in the goal")
+            self.equality(node, info, variables, what)
         elif head in CONDITION_REFUSALS:
             construct = CONDITION_REFUSALS[head]
             if goal and head in ("or", "imply", "forall", "exists"):
@@ -473,6 +491,8 @@ class Checker:
             if len(node.items) != 2 or not isinstance(node.items[1], SList):
                 raise self.fail(f"malformed 'not' in {what}", node)
             sub = node.items[1]
+            if sub.head == "=":
+                raise self.equality_or_comparison(sub, " in an effect")
             if sub.head in KEYWORDS or sub.head is None:
                 raise self.fail(f"expected an atom inside 'not' in {what}", sub)
             self.atom(sub, info, variables, info.constants, what)
@@ -482,6 +502,8 @@ class Checker:
             return 1
         if head in EFFECT_REFUSALS:
             raise self.refuse(EFFECT_REFUSALS[head], node)
+        if head == "=":
+            raise self.equality_or_comparison(node, " in an effect")
         self.atom(node, info, variables, info.constants, what)
         return 0
 

@@ -24,6 +24,7 @@ PERMISSIVE_FLAGS = (
     ":negative-preconditions",
     ":action-costs",
     ":numeric-fluents",
+    ":equality",
 )
 """The flags every domain is read with.  The library refuses a domain that uses types or
 functions without declaring their flags; mega-sat tolerates missing flags as Fast Downward does,

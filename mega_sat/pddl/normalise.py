@@ -2,15 +2,16 @@
 
 Types are compiled into static unary predicates as :mod:`mega_sat.model.lifted` describes.  With
 ``:action-costs`` an action without a cost effect costs 0 (the PDDL semantics), and costs come
-from the domain whether or not the problem states ``(:metric minimize (total-cost))``.  Negative
-initial literals ``(not p)`` are dropped (closed world), as is ``(= (total-cost) 0)``.  The
+from the domain whether or not the problem states ``(:metric minimize (total-cost))``.  Equality in
+preconditions becomes the static predicate ``=`` (:func:`~mega_sat.model.lifted.with_equality`).
+Negative initial literals ``(not p)`` are dropped (closed world), as is ``(= (total-cost) 0)``.  The
 input has passed :mod:`mega_sat.pddl.check`, so anything else is a construct the check missed.
 """
 
 from __future__ import annotations
 
 from mega_sat.errors import PDDLError
-from mega_sat.model.lifted import Atom, CostTerm, Model, Schema
+from mega_sat.model.lifted import EQUALITY, Atom, CostTerm, Model, Schema, with_equality
 from mega_sat.pddl.check import DomainInfo
 
 
@@ -44,7 +45,7 @@ def _unexpected(what: object, path: str) -> PDDLError:
 def _schema(action, uses_costs: bool, path: str) -> Schema:
     from pddl.logic.base import Not
     from pddl.logic.functions import Increase, NumericFunction, NumericValue
-    from pddl.logic.predicates import Predicate
+    from pddl.logic.predicates import EqualTo, Predicate
 
     params = tuple(f"?{v.name}" for v in action.parameters)
     signature = frozenset(
@@ -58,8 +59,12 @@ def _schema(action, uses_costs: bool, path: str) -> Schema:
     for lit in _conjuncts(action.precondition):
         if isinstance(lit, Predicate):
             pre.add(_atom(lit))
+        elif isinstance(lit, EqualTo):
+            pre.add((EQUALITY, _term(lit.left), _term(lit.right)))
         elif isinstance(lit, Not) and isinstance(lit.argument, Predicate):
             negpre.add(_atom(lit.argument))
+        elif isinstance(lit, Not) and isinstance(lit.argument, EqualTo):
+            negpre.add((EQUALITY, _term(lit.argument.left), _term(lit.argument.right)))
         else:
             raise _unexpected(lit, path)
     add: set[Atom] = set()
@@ -143,7 +148,7 @@ def to_model(domain, problem, info: DomainInfo, domain_path: str, problem_path: 
             raise _unexpected(lit, problem_path)
         goal.add(_atom(lit))
 
-    return Model(
+    model = Model(
         domain_name=str(domain.name),
         problem_name=str(problem.name),
         predicates=predicates,
@@ -156,3 +161,5 @@ def to_model(domain, problem, info: DomainInfo, domain_path: str, problem_path: 
         function_arities=dict(info.functions),
         uses_costs=uses_costs,
     )
+    uses_equality = any(a[0] == EQUALITY for s in schemas.values() for a in (*s.pre, *s.negpre))
+    return with_equality(model, model.objects) if uses_equality else model

@@ -19,7 +19,7 @@ from mega_sat.model.task import TwoModelTask
 from mega_sat.pddl.loading import task_from_texts
 
 # The problem-kind features (unified-planning's own names) of the fragment mega-sat reads:
-# STRIPS with types, negative preconditions and integer action costs (constants or static
+# STRIPS with types, negative preconditions, equality in preconditions and integer action costs (constants or static
 # fluents).  Any other feature is refused by name.
 SUPPORTED_KIND_FEATURES = frozenset(
     {
@@ -27,6 +27,7 @@ SUPPORTED_KIND_FEATURES = frozenset(
         "FLAT_TYPING",
         "HIERARCHICAL_TYPING",
         "NEGATIVE_CONDITIONS",
+        "EQUALITIES",
         "ACTIONS_COST",
         "PLAN_LENGTH",
         "STATIC_FLUENTS_IN_ACTIONS_COST",
@@ -63,7 +64,7 @@ def _check_problem(role: str, problem: object) -> None:
         raise UsageError(
             f"{role} '{problem.name}' uses problem-kind features mega-sat does not support: "
             f"{', '.join(unsupported)} (supported: classical STRIPS with types, negative "
-            "conditions and integer action costs)"
+            "conditions, equality and integer action costs)"
         )
 
 

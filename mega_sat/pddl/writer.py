@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from mega_sat.model.lifted import Atom, CostTerm, Model, Schema, atom_pddl
+from mega_sat.model.lifted import EQUALITY, Atom, CostTerm, Model, Schema, atom_pddl
 
 
 def _writes_costs(model: Model) -> bool:
@@ -37,11 +37,29 @@ def _arities(pairs: list[tuple[str, int]], what: str) -> dict[str, int]:
 
 
 def _predicate_arities(model: Model) -> dict[str, int]:
-    """Declared arities plus those of any atom the model uses (hand-built models)."""
+    """Declared arities plus those of any atom the model uses (hand-built models); equality
+    is built into PDDL and not declared."""
     atoms = [*model.init, *model.goal]
     for s in model.schemas.values():
         atoms.extend(_schema_atoms(s))
-    return _arities([*model.predicates.items(), *((a[0], len(a) - 1) for a in atoms)], "predicate")
+    out = _arities([*model.predicates.items(), *((a[0], len(a) - 1) for a in atoms)], "predicate")
+    out.pop(EQUALITY, None)
+    return out
+
+
+def _uses_equality(model: Model) -> bool:
+    return any(a[0] == EQUALITY for s in model.schemas.values() for a in (*s.pre, *s.negpre))
+
+
+def _equality_atoms(model: Model, objects: list[str]) -> list[Atom]:
+    """The model's ``(= a b)`` atoms, which PDDL's equality gives for free; an ``(= a b)``
+    other than the identity over the written objects cannot be written and is an error."""
+    atoms = sorted(a for a in model.init if a[0] == EQUALITY)
+    if any(a[0] == EQUALITY for s in model.schemas.values() for a in (*s.add, *s.delete)) or (
+        _uses_equality(model) and atoms != [(EQUALITY, o, o) for o in sorted(objects)]
+    ):
+        raise ValueError("the model's '=' atoms are not PDDL's equality over its objects")
+    return atoms
 
 
 def _function_arities(model: Model) -> dict[str, int]:
@@ -96,6 +114,8 @@ def domain_to_pddl(model: Model) -> str:
     reqs = [":strips"]
     if any(s.negpre for s in model.schemas.values()):
         reqs.append(":negative-preconditions")
+    if _uses_equality(model):
+        reqs.append(":equality")
     if costs:
         reqs.append(":action-costs")
     lines = [f"(define (domain {model.domain_name})", f"  (:requirements {' '.join(reqs)})"]
@@ -129,10 +149,12 @@ def problem_to_pddl(model: Model) -> str:
     costs = _writes_costs(model)
     lines = [f"(define (problem {model.problem_name})", f"  (:domain {model.domain_name})"]
     named = {x for a in (*model.init, *model.goal, *model.functions) for x in a[1:]}
-    objects = sorted((model.objects | named) - set(_constants(model)))
+    consts = set(_constants(model))
+    objects = sorted((model.objects | named) - consts)
     if objects:
         lines.append(f"  (:objects {' '.join(objects)})")
-    init = [atom_pddl(a) for a in sorted(model.init)]
+    equal = set(_equality_atoms(model, [*objects, *consts]))
+    init = [atom_pddl(a) for a in sorted(model.init - equal)]
     if costs:
         init.append("(= (total-cost) 0)")
     init += [f"(= {atom_pddl(t)} {v})" for t, v in sorted(model.functions.items())]

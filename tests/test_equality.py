@@ -1,0 +1,296 @@
+"""Equality in preconditions: read as the static predicate ``=``, never a model difference,
+pruned where both models negate it, written back as PDDL's own equality.
+
+The reference for the pruning is the same task with equality spelled as an ordinary static
+predicate ``same`` (initial atoms ``(same o o)``), which the grounding treats like any other
+predicate: the frontiers must be equal, against the brute-force oracle.
+"""
+
+from __future__ import annotations
+
+import itertools
+import re
+from dataclasses import replace
+
+import pytest
+from helpers.bruteforce import brute_force_frontier
+from helpers.fuzzing import oracle_settings
+from helpers.randomtasks import PARAMS, two_model_tasks
+from hypothesis import HealthCheck, given
+from hypothesis import strategies as st
+
+from mega_sat.api import MegaSolver
+from mega_sat.engines.sat_loop import sat_frontier
+from mega_sat.errors import PDDLError, UnsolvableError
+from mega_sat.ground.family import GroundTask
+from mega_sat.ground.grounding import ground
+from mega_sat.model.features import gamma
+from mega_sat.model.lifted import EQUALITY, Model
+from mega_sat.model.task import TwoModelTask
+from mega_sat.pddl.loading import load_task_from_strings
+from mega_sat.pddl.reader import parse_model
+from mega_sat.pddl.writer import domain_to_pddl, problem_to_pddl
+from mega_sat.planners.fast_downward import fd_available, fd_plan
+from mega_sat.search.astar import astar
+
+ROBOT_DOMAIN = """(define (domain bw-eq)
+  (:requirements :strips :equality :action-costs)
+  (:constants table)
+  (:predicates (on ?x ?y) (clear ?x) (handempty) (holding ?x))
+  (:functions (total-cost) - number)
+  (:action pick-up :parameters (?x)
+    :precondition (and (on ?x table) (clear ?x) (handempty))
+    :effect (and (not (on ?x table)) (not (clear ?x)) (not (handempty)) (holding ?x)
+                 (increase (total-cost) 1)))
+  (:action put-down :parameters (?x)
+    :precondition (holding ?x)
+    :effect (and (not (holding ?x)) (clear ?x) (handempty) (on ?x table)
+                 (increase (total-cost) 1)))
+  (:action move :parameters (?x ?from ?to)
+    :precondition (and (on ?x ?from) (clear ?x) (clear ?to) (handempty)
+                       (not (= ?x ?to)) (not (= ?from ?to)) (not (= ?to table)))
+    :effect (and (on ?x ?to) (clear ?from) (not (on ?x ?from)) (not (clear ?to))
+                 (increase (total-cost) 1)))
+  (:action stack :parameters (?x ?y)
+    :precondition (and (holding ?x) (clear ?y) (not (= ?x ?y)))
+    :effect (and (not (holding ?x)) (not (clear ?y)) (clear ?x) (handempty) (on ?x ?y)
+                 (increase (total-cost) 2)))
+  (:action unstack :parameters (?x ?y)
+    :precondition (and (on ?x ?y) (clear ?x) (handempty) (not (= ?y table)))
+    :effect (and (holding ?x) (clear ?y) (not (clear ?x)) (not (handempty)) (not (on ?x ?y))
+                 (increase (total-cost) 2))))"""
+
+# the human does not know that a block cannot move onto itself, and thinks stacking is cheap
+HUMAN_DOMAIN = ROBOT_DOMAIN.replace("(not (= ?x ?to)) ", "").replace(
+    "(on ?x ?y)\n                 (increase (total-cost) 2)",
+    "(on ?x ?y)\n                 (increase (total-cost) 1)",
+)
+
+PROBLEM = """(define (problem p) (:domain bw-eq)
+  (:objects a b c d)
+  (:init (on a b) (on b c) (on c table) (on d table) (clear a) (clear d) (handempty)
+         (= (total-cost) 0))
+  (:goal (and (on d a) (on c d)))
+  (:metric minimize (total-cost)))"""
+
+
+def _task() -> TwoModelTask:
+    return load_task_from_strings(ROBOT_DOMAIN, PROBLEM, HUMAN_DOMAIN, PROBLEM)
+
+
+def _named(model: Model, objects: frozenset[str]) -> Model:
+    """``model`` with equality spelled as the ordinary static predicate ``same``."""
+
+    def ren(atoms):
+        return frozenset(("same", *a[1:]) if a[0] == EQUALITY else a for a in atoms)
+
+    schemas = {
+        n: replace(s, pre=ren(s.pre), negpre=ren(s.negpre)) for n, s in model.schemas.items()
+    }
+    init = {a for a in model.init if a[0] != EQUALITY} | {("same", o, o) for o in objects}
+    predicates = {p: k for p, k in model.predicates.items() if p != EQUALITY}
+    return replace(
+        model, schemas=schemas, init=frozenset(init), predicates={**predicates, "same": 2}
+    )
+
+
+def _named_task(task: TwoModelTask) -> TwoModelTask:
+    objects = task.robot.objects | task.human.objects
+    return TwoModelTask.from_models(_named(task.robot, objects), _named(task.human, objects))
+
+
+def _live_actions(task: GroundTask, eq: str) -> set[tuple]:
+    """The actions of ``task`` its static ``eq`` atoms do not rule out, as atoms without them."""
+    at = task.atoms
+    out = set()
+    for a in task.actions:
+        pre, neg = {at[i] for i in a.pre}, {at[i] for i in a.negpre}
+        eq_pre, eq_neg = {x for x in pre if x[0] == eq}, {x for x in neg if x[0] == eq}
+        if any(x[1] != x[2] for x in eq_pre) or any(x[1] == x[2] for x in eq_neg):
+            continue
+        add, delete = frozenset(at[i] for i in a.add), frozenset(at[i] for i in a.delete)
+        out.add((a.step, frozenset(pre - eq_pre), frozenset(neg - eq_neg), add, delete, a.cost))
+    return out
+
+
+def _pairs(points):
+    return [(p.size, p.robot_cost) for p in points]
+
+
+# ------------------------------------------------------------------------------- reading
+
+
+def test_equality_is_read_as_the_static_predicate():
+    m = parse_model(ROBOT_DOMAIN, PROBLEM)
+    assert m.predicates[EQUALITY] == 2
+    assert m.schemas["move"].negpre == {
+        ("=", "?x", "?to"),
+        ("=", "?from", "?to"),
+        ("=", "?to", "table"),
+    }
+    assert {a for a in m.init if a[0] == EQUALITY} == {
+        ("=", o, o) for o in ("a", "b", "c", "d", "table")
+    }
+    positive = ROBOT_DOMAIN.replace("(not (= ?y table))", "(= ?y ?y)")
+    assert ("=", "?y", "?y") in parse_model(positive, PROBLEM).schemas["unstack"].pre
+    # a domain without equality has no '=' predicate and no '=' atoms
+    plain = parse_model(ROBOT_DOMAIN.replace(" (not (= ?x ?y))", ""), PROBLEM)
+    assert EQUALITY in plain.predicates  # move and unstack still use it
+    base = parse_model(
+        "(define (domain d) (:predicates (p)) (:action a :parameters () :precondition (p)"
+        " :effect (not (p))))",
+        "(define (problem q) (:domain d) (:init (p)) (:goal (and)))",
+    )
+    assert EQUALITY not in base.predicates and not base.init - {("p",)}
+
+
+@pytest.mark.parametrize(
+    ("edit", "message"),
+    [
+        (("(on ?x ?to) (clear ?from)", "(on ?x ?to) (= ?x ?to) (clear ?from)"), "in an effect"),
+        (("(on ?x ?to) (clear ?from)", "(on ?x ?to) (not (= ?x ?to))"), "in an effect"),
+        (("(not (= ?x ?y))", "(not (= ?x ?z))"), "undefined variable '?z'"),
+        (("(not (= ?x ?y))", "(not (= ?x ?y ?x))"), "'=' takes 2 arguments, got 3"),
+        (("(not (= ?x ?y))", "(not (= ?x nowhere))"), "undefined constant 'nowhere'"),
+    ],
+)
+def test_equality_errors_in_the_domain(edit, message):
+    dom = ROBOT_DOMAIN.replace(*edit)
+    assert dom != ROBOT_DOMAIN
+    with pytest.raises(PDDLError, match=re.escape(message)) as e:
+        parse_model(dom, PROBLEM, domain_path="d.pddl")
+    assert str(e.value).startswith("d.pddl: line ")
+
+
+def test_equality_in_the_goal_is_refused():
+    prob = PROBLEM.replace("(on c d)", "(on c d) (= a a)")
+    with pytest.raises(PDDLError, match=r"p.pddl: line 5: equality .* in the goal is not sup"):
+        parse_model(ROBOT_DOMAIN, prob, problem_path="p.pddl")
+
+
+# ------------------------------------------------------------------------------ two models
+
+
+def test_equality_is_never_a_difference():
+    """The human's domain does not use '=' at all in one schema: the difference is that
+    precondition, and no initial-state '=' atom, even when one model lacks equality."""
+    task = _task()
+    assert [u.name for u in task.delta] == [
+        "add-move-has-negprecondition-= ?x ?to",
+        "add-stack-has-cost-2",
+    ]
+    no_eq = HUMAN_DOMAIN.replace("(not (= ?from ?to)) (not (= ?to table))", "").replace(
+        "(not (= ?x ?y))", ""
+    )
+    no_eq = no_eq.replace("(not (= ?y table))", "")
+    assert "(=" not in no_eq
+    t2 = load_task_from_strings(ROBOT_DOMAIN, PROBLEM, no_eq, PROBLEM)
+    assert all(u.feature.kind == "negpre" or "cost" in u.name for u in t2.delta)
+    assert len(t2.delta) == 6
+
+
+def test_groundings_both_models_forbid_are_left_out():
+    fam = ground(_task())
+    steps = {(a.name, *a.args) for a in fam.actions}
+    assert not any(s[0] == "stack" and s[1] == s[2] for s in steps)
+    assert not any(s[0] == "unstack" and s[2] == "table" for s in steps)
+    # only the robot forbids moving a block onto itself: those groundings stay, guarded
+    assert ("move", "a", "b", "a") in steps
+    assert not any(s[0] == "move" and s[2] == s[3] for s in steps)
+
+
+def test_frontier_equals_the_named_predicate_and_brute_force():
+    task = _task()
+    solver = MegaSolver(task)
+    fr = solver.frontier()
+    named = _named_task(task)
+    c_r, pts, _ = brute_force_frontier(named, ground(named))
+    assert fr.exact and fr.robot_optimal_cost == c_r
+    assert _pairs(fr.points) == _pairs(pts)
+    assert len(ground(named).actions) > len(solver.family.actions)  # the pruning did something
+
+
+@st.composite
+def _tasks_with_equality(draw):
+    task = draw(two_model_tasks(max_delta=4))
+    robot, human = task.robot, task.human
+    for name in sorted(robot.schemas):
+        s = robot.schemas[name]
+        if len(s.params) < 2 or draw(st.integers(0, 2)) == 0:
+            continue
+        atom = ("=", *PARAMS[:2]) if draw(st.booleans()) else ("=", PARAMS[1], PARAMS[0])
+        negated = draw(st.booleans())
+        field = "negpre" if negated else "pre"
+        owners = draw(st.sampled_from(["robot", "human", "both", "both"]))
+        if owners != "human":
+            s2 = replace(s, **{field: getattr(s, field) | {atom}})
+            robot = replace(robot, schemas={**robot.schemas, name: s2})
+        h = human.schemas.get(name)
+        if h is not None and len(h.params) == 2 and owners != "robot":
+            h2 = replace(h, **{field: getattr(h, field) | {atom}})
+            human = replace(human, schemas={**human.schemas, name: h2})
+    objects = robot.objects | human.objects
+    preds = {EQUALITY: 2}
+    robot = replace(robot, predicates={**robot.predicates, **preds})
+    human = replace(human, predicates={**human.predicates, **preds})
+    # the reader gives both models the identity atoms; from_models completes them
+    robot = replace(robot, init=robot.init | {(EQUALITY, o, o) for o in sorted(objects)[:1]})
+    return TwoModelTask.from_models(robot, human)
+
+
+@oracle_settings(60, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+@given(_tasks_with_equality())
+def test_random_equalities_against_the_named_predicate(task):
+    objects = task.robot.objects | task.human.objects
+    identity = {(EQUALITY, o, o) for o in objects}
+    assert identity <= task.robot.init and identity <= task.human.init
+    assert not any(u.feature.kind == "init" and u.feature.atom[0] == EQUALITY for u in task.delta)
+    named = _named_task(task)
+    assert sorted(u.name.replace("-same ", "-= ") for u in named.delta) == sorted(
+        u.name for u in task.delta
+    )
+    fam, fam_named = ground(task), ground(named)
+    # every member of the family: the same actions, once those equality rules out are dropped
+    by_name = {u.name: i for i, u in enumerate(named.delta)}
+    for k in range(len(task.delta) + 1):
+        for sel in itertools.combinations(range(len(task.delta)), k):
+            sel_named = frozenset(by_name[task.delta[i].name.replace("-= ", "-same ")] for i in sel)
+            assert _live_actions(fam.specialize(frozenset(sel)), EQUALITY) == _live_actions(
+                fam_named.specialize(sel_named), "same"
+            )
+    try:
+        c_r, pts, _ = brute_force_frontier(named, fam_named, state_limit=20_000)
+    except ValueError:
+        with pytest.raises(UnsolvableError):
+            sat_frontier(task, fam)
+        return
+    c_eq, pts_eq, _ = brute_force_frontier(task, fam, state_limit=20_000)
+    assert (c_eq, _pairs(pts_eq)) == (c_r, _pairs(pts))
+    fr = sat_frontier(task, fam)
+    assert fr.robot_optimal_cost == c_r and _pairs(fr.points) == _pairs(pts)
+
+
+# ---------------------------------------------------------------------- writing, FD
+
+
+def test_written_model_uses_pddl_equality_and_reads_back_the_same():
+    task = _task()
+    model = task.updated_model(range(len(task.delta)))
+    dom, prob = domain_to_pddl(model), problem_to_pddl(model)
+    assert ":equality" in dom and "(not (= ?x ?to))" in dom
+    assert "(= " not in dom.split("(:predicates")[1].split(")\n")[0]
+    assert "(= a a)" not in prob
+    back = parse_model(dom, prob)
+    assert gamma(back) == gamma(model)
+
+
+@pytest.mark.skipif(not fd_available(), reason="Fast Downward not installed")
+def test_optimal_costs_agree_with_fast_downward_on_the_original_files():
+    task = _task()
+    solver = MegaSolver(task)
+    for dom, model in ((ROBOT_DOMAIN, task.robot), (HUMAN_DOMAIN, task.human)):
+        fd = fd_plan(dom, PROBLEM)
+        ours = solver.family.specialize(
+            solver.family.robot_selection if model is task.robot else frozenset()
+        )
+        assert astar(ours).cost == fd.cost
