@@ -283,38 +283,99 @@ def test_time_limit_with_a_partial_answer_is_exit_0(cmd, monkeypatch):
         assert d["chosen"]["robot_cost"] == 8
 
 
-def test_time_limit_before_the_first_point_is_exit_124(monkeypatch, tmp_path):
-    """``solve`` stopped after the robot optimum but before any point has nothing to choose
-    from: 124 with the proven lower bound, not 3 (which claims an unsolvable robot problem);
-    ``frontier`` reports the empty partial frontier with exit 0, and its ``--write-model
-    --force`` leaves an earlier folder as it was instead of emptying it."""
-    from mega_sat.sat.oracles import SatOracles
+def _slow_first_point(monkeypatch, engine):
+    """The robot optimum comes as usual, then the clock runs out before the first point: the
+    sat engine's JOINT calls, or the astar engine's per-node planner calls, wait past the
+    deadline."""
+    if engine == "sat":
+        from mega_sat.sat.oracles import SatOracles
 
-    joint = SatOracles.joint
+        joint = SatOracles.joint
 
-    def slow_joint(self, *args, **kw):
-        if self.deadline.limited:
-            time.sleep(self.deadline.remaining() + 0.01)
-        return joint(self, *args, **kw)
+        def slow_joint(self, *args, **kw):
+            if self.deadline.limited:
+                time.sleep(self.deadline.remaining() + 0.01)
+            return joint(self, *args, **kw)
 
-    monkeypatch.setattr(SatOracles, "joint", slow_joint)
-    res = run("solve", "--alpha", "1", "--task", USAR, "--timeout", "1", "--json")
-    assert res.exit_code == 124, res.output
-    line = _one_error_line(res.stderr)
-    assert "time limit 1.0s reached before anything could be reported" in line
-    d = json.loads(res.stdout)
-    assert d["exit_code"] == 124 and d["status"] == "timeout" and d["complete"] is False
+        monkeypatch.setattr(SatOracles, "joint", slow_joint)
+    else:
+        from mega_sat.planners.node_planner import NodePlanner
+
+        optimal = NodePlanner.optimal
+
+        def slow_node(self, selection):
+            if selection != self.family.robot_selection and self.deadline.limited:
+                time.sleep(self.deadline.remaining() + 0.01)
+            return optimal(self, selection)
+
+        monkeypatch.setattr(NodePlanner, "optimal", slow_node)
+
+
+@pytest.mark.parametrize("engine", ["sat", "astar"])
+@pytest.mark.parametrize("cmd", [["frontier"], ["solve", "--alpha", "1"]])
+def test_time_limit_before_the_first_point_is_exit_124(cmd, engine, monkeypatch, tmp_path):
+    """Stopped after the robot optimum but before any point, ``frontier`` has no point to
+    report and ``solve`` none to choose from: 124 (an empty frontier with exit 0 read as
+    success), with what was proven on the error line (the robot optimum, the lower bound),
+    and with ``--json`` the timeout object followed by the frontier object's keys; 3 would
+    claim an unsolvable robot problem.  ``--write-model --force`` leaves an earlier folder as
+    it was instead of emptying it."""
+    _slow_first_point(monkeypatch, engine)
     earlier = tmp_path / "out"
     earlier.mkdir()
     (earlier / "kept.txt").write_text("an earlier run\n")
-    fr = run(
-        "frontier", "--task", USAR, "--timeout", "1", "--json", "--write-model", earlier, "--force"
+    args = [*cmd, "--engine", engine, "--task", USAR, "--timeout", "1"]
+    res = run(*args, "--json", "--write-model", earlier, "--force")
+    assert res.exit_code == 124, res.output
+    line = _one_error_line(res.stderr)
+    assert line.startswith(
+        "error: time limit 1.0s reached before the first frontier point was found "
+        "(robot optimal cost 4"
     )
-    assert fr.exit_code == 0, fr.output
-    d = json.loads(fr.stdout)
-    assert d["frontier"] == [] and d["complete"] is False
-    assert "nothing written" in fr.stderr
+    d = json.loads(res.stdout)
+    assert list(d)[:4] == ["complete", "status", "error", "exit_code"]
+    assert d["complete"] is False and d["status"] == "timeout" and d["exit_code"] == 124
+    assert d["error"] == line.removeprefix("error: ")
+    assert d["engine"] == engine and d["robot_optimal_cost"] == 4
+    assert d["frontier"] == [] and d["exact"] is False and len(d["model_difference"]) == 3
+    bound = d["next_size_lower_bound"]
+    if bound:
+        assert line.endswith(f"; any solution needs |E| >= {bound})")
+    else:
+        assert line.endswith("(robot optimal cost 4)")
     assert [p.name for p in earlier.iterdir()] == ["kept.txt"]
+    text = run(*args)
+    assert text.exit_code == 124 and text.stdout == "", text.output
+    assert _one_error_line(text.stderr).startswith(line.split(" (")[0])
+
+
+def test_a_backstop_stop_before_the_first_point_is_exit_124(monkeypatch, tmp_path):
+    """The backstop timer stopping the run between the robot optimum and the first point (the
+    engine returns nothing; the CLI takes what it published): the same 124, here with the
+    lower bound on cost(E) under update costs (the first candidate, E = {}, has no point)."""
+    from mega_sat.sat.oracles import SatOracles
+
+    joint = SatOracles.joint
+    calls = []
+
+    def forced_on_the_second_call(self, *args, **kw):
+        calls.append(1)
+        if len(calls) == 2:
+            raise TimeLimitReached(60.0, forced=True)
+        return joint(self, *args, **kw)
+
+    monkeypatch.setattr(SatOracles, "joint", forced_on_the_second_call)
+    costs = tmp_path / "costs.txt"
+    delta = run("diff", "--task", USAR).stdout.splitlines()
+    costs.write_text("".join(f"{u} 5\n" for u in delta))
+    res = run("frontier", "--task", USAR, "--timeout", "60", "--update-costs", costs, "--json")
+    assert res.exit_code == 124, res.output
+    d = json.loads(res.stdout)
+    assert d["status"] == "timeout" and d["frontier"] == [] and d["next_cost_lower_bound"] == 5
+    assert d["error"] == (
+        "time limit 60.0s reached before the first frontier point was found "
+        "(robot optimal cost 4; any solution needs cost(E) >= 5)"
+    )
 
 
 def test_choose_from_an_empty_frontier():

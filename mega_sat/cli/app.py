@@ -190,9 +190,12 @@ class _Run:
     def echo_json(self, obj: dict) -> None:
         self.echo(json.dumps(obj, indent=2))
 
-    def fail(self, code: int, message: str, status: str | None = None) -> int:
+    def fail(
+        self, code: int, message: str, status: str | None = None, extra: dict | None = None
+    ) -> int:
         """One ``error:`` line on stderr and, with ``--json`` and nothing printed yet, one JSON
-        object on stdout; returns the exit code."""
+        object on stdout (``extra``: what was proven before a stop, keys after ``exit_code``);
+        returns the exit code."""
         self.quiet()
         text = f"error: {message}"  # library messages carry no prefix (mega_sat.errors)
         click.echo(text, err=True)
@@ -201,6 +204,7 @@ class _Run:
             if status is not None:
                 obj = {"complete": False, "status": status}
             obj.update(error=message, exit_code=code)
+            obj.update({k: v for k, v in (extra or {}).items() if k not in obj})
             try:
                 self.echo_json(obj)
             except StdoutError as e:

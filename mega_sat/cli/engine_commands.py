@@ -25,6 +25,7 @@ from mega_sat.deadline import TimeLimitReached
 from mega_sat.errors import (
     EXIT_FAILED,
     EXIT_OK,
+    EXIT_TIMEOUT,
     Interrupted,
     UsageError,
 )
@@ -208,8 +209,8 @@ def _check_and_write(run, solver, points, do_verify, write_model, force):
             )
             return reports, notes
     if write_model and not points:
-        # a time limit before the first point: an empty folder would replace the target (with
-        # --force) and say nothing
+        # no point to write (a time limit before the first one ends the run with 124 before
+        # this): an empty folder would replace the target (with --force) and say nothing
         click.echo("; --write-model: no frontier point to write, nothing written", err=True)
     elif write_model:
         for path in _write_models(solver, points, write_model):
@@ -268,6 +269,26 @@ def _incomplete_lines(run, notes) -> None:
         run.echo(f"incomplete: {note}")
 
 
+def _no_point_in_time(run, fr) -> int:
+    """Exit 124 for a frontier the time limit stopped after the robot optimum but before its
+    first point: there is no answer to print, and an empty frontier with exit 0 reads as
+    success.  The error line says what was proven (the robot optimum, a lower bound on the
+    explanation cost); with ``--json`` the timeout object carries the frontier object's keys
+    too, its ``frontier`` empty."""
+    from mega_sat.results import needs
+
+    run.quiet()  # from here on the run reports: no backstop in the middle of it
+    proven = [f"robot optimal cost {fr.robot_optimal_cost}"]
+    bound = fr.next_cost_lower_bound
+    if bound:  # a bound of 0 holds for every solution: it proves nothing
+        proven.append(needs(bound, fr.update_costs is not None))
+    message = (
+        f"{run.deadline.describe()} reached before the first frontier point was found "
+        f"({'; '.join(proven)})"
+    )
+    return run.fail(EXIT_TIMEOUT, message, "timeout", extra=fr.to_dict())
+
+
 def _stop_message(run) -> None:
     if isinstance(run.stopped, Interrupted):
         click.echo(f"{run.stopped}: the answer printed is what was proven so far", err=True)
@@ -296,7 +317,13 @@ def solve(run, alpha, as_json, do_verify, write_model, force, verbose, **kw):
         _verbose_family(s, verbose)
         return s.solve(a)
 
-    sol = run.compute(work, lambda reason: s.partial_solution(a, reason))
+    try:
+        sol = run.compute(work, lambda reason: s.partial_solution(a, reason))
+    except TimeLimitReached as stop:
+        fr = s.partial_frontier(run.reason(stop))
+        if fr is None or fr.points:  # stopped before the robot optimum: nothing proven
+            raise
+        return _no_point_in_time(run, fr)
     elapsed = time.perf_counter() - t0
     reports, notes = _check_and_write(run, s, [sol.chosen], do_verify, write_model, force)
     fr = sol.frontier
@@ -351,6 +378,8 @@ def frontier(run, as_json, do_verify, write_model, force, verbose, plot=None, **
         return s.frontier()
 
     fr = run.compute(work, s.partial_frontier)
+    if not fr.points and not fr.complete and not isinstance(run.stopped, Interrupted):
+        return _no_point_in_time(run, fr)
     reports, notes = _check_and_write(run, s, fr.points, do_verify, write_model, force)
     notes += _plot(run, fr, plot_target, force, title)
     if as_json:
