@@ -23,6 +23,7 @@ from click.testing import CliRunner
 from mega_sat.cli.commands import main
 from mega_sat.deadline import MAX_TIMEOUT, NO_DEADLINE, Deadline, TimeLimitReached, parse_timeout
 from mega_sat.errors import EXIT_CODES, UsageError
+from mega_sat.planners.val import val_available
 
 ROOT = Path(__file__).resolve().parent.parent
 USAR = ROOT / "domains" / "usar-fetch" / "p1"
@@ -704,3 +705,71 @@ def test_verify_cut_short_by_the_limit_reports_the_checks_it_finished(monkeypatc
     assert info.value.detail.startswith("checked: valid in robot model: ok (cost ")
     assert "valid in human + E: ok" in info.value.detail
     assert "; not checked: optimal in human + E (by " in info.value.detail
+    names = [c.name for c in info.value.checks]
+    assert names == ["valid in robot model", "robot cost as reported", "valid in human + E",
+                     "human cost as reported"]  # fmt: skip
+    assert info.value.pending.startswith("optimal in human + E (by ")
+
+
+VERIFY_ARGS = [
+    "verify",
+    "--task",
+    USAR,
+    "--plan",
+    ROOT / "docs/examples/usar-p1-explicable.plan",
+    "--explanation",
+    ROOT / "docs/examples/usar-p1-low-alpha.explanation",
+]
+VALID = [
+    {"name": "valid in robot model", "ok": True, "detail": "cost 8"},
+    {"name": "valid in human + E", "ok": True, "detail": "cost 8"},
+]
+
+
+def test_verify_json_cut_short_lists_the_checks_it_finished(monkeypatch):
+    """``verify --json`` stopped by the limit while re-deriving the optimum: the checks done
+    are ``checks_done`` of the timeout object, the same objects as the complete report's
+    ``checks`` (they were only inside the ``error`` text); the text run has one error line."""
+    from mega_sat.planners.node_planner import NodePlanner
+
+    def late(self, selection):
+        raise TimeLimitReached(60.0, forced=True)
+
+    monkeypatch.setattr(NodePlanner, "optimal", late)
+    res = run(*VERIFY_ARGS, "--checker", "builtin", "--timeout", "60", "--json")
+    assert res.exit_code == 124, res.output
+    d = json.loads(res.stdout)
+    assert list(d) == ["complete", "status", "error", "exit_code", "checks_done"]
+    assert d["complete"] is False and d["status"] == "timeout" and d["exit_code"] == 124
+    assert d["checks_done"] == VALID
+    assert d["error"] == (
+        "time limit 60.0s reached before the answer was complete; checked: valid in robot "
+        "model: ok (cost 8); valid in human + E: ok (cost 8); not checked: optimal in human + E "
+        "(by builtin)"
+    )
+    assert _one_error_line(res.stderr) == "error: " + d["error"]
+    text = run(*VERIFY_ARGS, "--checker", "builtin", "--timeout", "60")
+    assert text.exit_code == 124 and text.stdout == "" and _one_error_line(text.stderr)
+
+
+@pytest.mark.skipif(not val_available(), reason="needs VAL")
+def test_verify_cut_short_in_val_keeps_the_checks_before_it(monkeypatch):
+    """A limit reached while VAL runs (it once went up as 'before anything could be
+    reported', dropping the finished checks): the optimum's check is among ``checks_done``."""
+    import mega_sat.planners.val as val
+
+    def late(*args, **kw):
+        raise TimeLimitReached(60.0)
+
+    monkeypatch.setattr(val, "val_validate", late)
+    res = run(*VERIFY_ARGS, "--checker", "builtin", "--timeout", "60", "--json")
+    assert res.exit_code == 124, res.output
+    d = json.loads(res.stdout)
+    optimal = {
+        "name": "optimal in human + E",
+        "ok": True,
+        "detail": "optimum of human + E by builtin: 8; plan: 8",
+    }
+    assert d["checks_done"] == [*VALID, optimal]
+    assert d["error"].startswith("time limit 60.0s reached before the answer was complete; ")
+    assert d["error"].endswith("; not checked: VAL: valid in robot model")

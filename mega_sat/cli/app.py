@@ -240,6 +240,16 @@ def _from_click_echo(e: OSError) -> bool:
     return bool(frames) and frames[-1].name == "echo" and "click" in frames[-1].filename
 
 
+def timeout_message(deadline: Deadline, stop: TimeLimitReached) -> str:
+    """The error line of a run the time limit ended without an answer: nothing to report, or
+    part of one (``stop.partial``), with what was proven (``stop.detail``)."""
+    when = "before the answer was complete"
+    if not stop.partial:
+        when = "before anything could be reported"
+    detail = f"; {stop.detail}" if stop.detail else ""
+    return f"{deadline.describe()} reached {when}{detail}"
+
+
 def _command(fn):
     """Run a command inside a :class:`_Run`: ``--timeout`` becomes its deadline, stops and
     :class:`MegaSatError` become one line and the exit code of :data:`EXIT_CODES`, and the
@@ -270,15 +280,7 @@ def _command(fn):
                 except MegaSatError as e:
                     code = run.fail(e.exit_code, str(e))
                 except TimeLimitReached as e:
-                    detail = f"; {e.detail}" if e.detail else ""
-                    when = "before the answer was complete"
-                    if not e.partial:
-                        when = "before anything could be reported"
-                    code = run.fail(
-                        EXIT_TIMEOUT,
-                        f"{run.deadline.describe()} reached {when}" + detail,
-                        "timeout",
-                    )
+                    code = run.fail(EXIT_TIMEOUT, timeout_message(run.deadline, e), "timeout")
                 except Interrupted as e:
                     code = run.fail(
                         e.exit_code, f"{e} before anything could be reported", "interrupted"

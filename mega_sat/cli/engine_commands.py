@@ -531,7 +531,8 @@ def explain(
 @_command
 def verify(run, explanation, plan_file, checker, update_costs, as_json, verbose, **kw):
     """Check a plan + explanation pair from files."""
-    from mega_sat.engines.verify import verify_pair
+    from mega_sat.cli.app import timeout_message
+    from mega_sat.engines.verify import ChecksCutShort, verify_pair
     from mega_sat.pddl.planio import read_plan
     from mega_sat.pddl.update_costs import cost_vector
 
@@ -542,17 +543,23 @@ def verify(run, explanation, plan_file, checker, update_costs, as_json, verbose,
     sel = _read_explanation(task, explanation)
     steps = read_plan(plan_file)
     fam = _ground(task, run, verbose)
-    rep = verify_pair(
-        task,
-        fam,
-        sel,
-        steps,
-        producer="sat",
-        checker=checker,
-        deadline=run.deadline,
-        update_costs=costs,
-        options=options,
-    )
+    try:
+        rep = verify_pair(
+            task,
+            fam,
+            sel,
+            steps,
+            producer="sat",
+            checker=checker,
+            deadline=run.deadline,
+            update_costs=costs,
+            options=options,
+        )
+    except ChecksCutShort as stop:
+        # the checks finished before the limit are part of the answer: in JSON as objects of
+        # the complete report, not only inside the error line
+        done = {"checks_done": [c.to_dict() for c in stop.checks]}
+        return run.fail(EXIT_TIMEOUT, timeout_message(run.deadline, stop), "timeout", done)
     if as_json:
         run.echo_json(rep.to_dict())
     else:

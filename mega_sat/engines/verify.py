@@ -27,6 +27,26 @@ class Check:
     ok: bool
     detail: str
 
+    def to_dict(self) -> dict:
+        return {"name": self.name, "ok": self.ok, "detail": self.detail}
+
+
+class ChecksCutShort(TimeLimitReached):  # noqa: N818 - a TimeLimitReached, named for its part
+    """The time limit reached while a pair was being checked, after some checks were done:
+    ``checks`` are those (each a finished answer, a pass or a failure), ``pending`` names the
+    check the limit cut short.  Its ``detail`` says both, for the error line."""
+
+    def __init__(self, stop: TimeLimitReached, checks: Sequence[Check], pending: str):
+        done = "; ".join(f"{c.name}: {'ok' if c.ok else 'FAILED'} ({c.detail})" for c in checks)
+        super().__init__(
+            stop.seconds,
+            forced=stop.forced,
+            detail=f"checked: {done}; not checked: {pending}",
+            partial=True,
+        )
+        self.checks = tuple(checks)
+        self.pending = pending
+
 
 @dataclass(frozen=True)
 class VerifyReport:
@@ -55,7 +75,7 @@ class VerifyReport:
     def to_dict(self) -> dict:
         d: dict = {
             "ok": self.ok,
-            "checks": [{"name": c.name, "ok": c.ok, "detail": c.detail} for c in self.checks],
+            "checks": [c.to_dict() for c in self.checks],
         }
         if self.explanation_cost is not None:
             d["explanation_cost"] = self.explanation_cost
@@ -201,9 +221,10 @@ def verify_pair(
     ``explanation_cost``, when given, must equal it.
 
     ``oracles``: live SAT oracles of this task, reused when the checker is ``sat``.  The
-    checker's planner and VAL stop at ``deadline`` with
-    :class:`~mega_sat.deadline.TimeLimitReached` (an optimum not re-derived is neither a pass
-    nor a failure).  ``options``: the tuning knobs of the checker's planner.
+    checker's planner and VAL stop at ``deadline`` with :class:`ChecksCutShort` (a
+    :class:`~mega_sat.deadline.TimeLimitReached` holding the checks finished before it; an
+    optimum not re-derived is neither a pass nor a failure).  ``options``: the tuning knobs of
+    the checker's planner.
     """
     from mega_sat.planners.node_planner import NodePlanner
 
@@ -249,13 +270,7 @@ def verify_pair(
     except TimeLimitReached as e:
         # the checks done so far are finished answers (even when the backstop timer cut the
         # planner short): say them rather than nothing at all
-        done = "; ".join(f"{c.name}: {'ok' if c.ok else 'FAILED'} ({c.detail})" for c in checks)
-        raise TimeLimitReached(
-            e.seconds,
-            forced=e.forced,
-            detail=f"checked: {done}; not checked: optimal in human + E (by {kind})",
-            partial=True,
-        ) from None
+        raise ChecksCutShort(e, checks, f"optimal in human + E (by {kind})") from None
     if opt.status == Status.OPTIMAL:
         good = sim_h.valid and sim_h.cost == opt.cost
         detail = f"optimum of human + E by {kind}: {opt.cost}; plan: {sim_h.cost}"
@@ -285,9 +300,13 @@ def verify_pair(
                     # not satisfied" for too many: it is not asked about steps it cannot read
                     checks.append(Check(f"VAL: valid in {label}", False, f"not run: {bad}"))
                     continue
-                v = val_validate(
-                    domain_to_pddl(model), problem_to_pddl(model), plan, deadline=deadline
-                )
+                try:
+                    v = val_validate(
+                        domain_to_pddl(model), problem_to_pddl(model), plan, deadline=deadline
+                    )
+                except TimeLimitReached as e:
+                    # as for the optimum: the checks before VAL are finished answers
+                    raise ChecksCutShort(e, checks, f"VAL: valid in {label}") from None
                 ok, detail = v.valid, f"cost {v.cost}" if v.valid else v.message
                 if v.valid and sim.valid and sim.cost is not None:
                     if sim.cost >= VAL_INT_LIMIT:
