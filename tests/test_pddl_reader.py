@@ -449,3 +449,65 @@ def test_a_failed_file_leaves_nothing_for_the_next():
         parse_model(typed, (DATA / "typed-problem.pddl").read_text())
     m = read_model(DATA / "typed-domain.pddl", DATA / "typed-problem.pddl")
     assert "truck" in m.type_predicates
+
+
+KEYWORD_DOMAIN = """(define (domain kw)
+  (:requirements :strips :typing :negative-preconditions)
+  (:types thing place)
+  (:predicates (at ?object - thing ?either - place) (holding ?object) (free))
+  (:functions (weight ?domain - thing) - number)
+  (:action pick :parameters (?object - thing ?object-v - place)
+    :precondition (and (at ?object ?object-v) (free) (not (holding ?object)))
+    :effect (and (holding ?object) (not (at ?object ?object-v)) (not (free))))
+  (:action drop :parameters (?when - thing ?p - place)
+    :precondition (holding ?when)
+    :effect (and (at ?when ?p) (not (holding ?when)) (free))))"""
+KEYWORD_PROBLEM = """(define (problem kw1) (:domain kw)
+  (:objects box - thing a b - place)
+  (:init (at box a) (free))
+  (:goal (at box b)))"""
+
+
+def test_variables_named_like_keywords_keep_their_names():
+    """PDDL allows ``?object``, ``?either``, ``?when``; the ``pddl`` library takes them for its
+    keywords.  They are renamed for the library and named as the file names them in the model
+    (``?object-v``, already taken, stays itself)."""
+    m = parse_model(KEYWORD_DOMAIN, KEYWORD_PROBLEM)
+    pick, drop = m.schemas["pick"], m.schemas["drop"]
+    assert pick.params == ("?object", "?object-v")
+    assert pick.pre == {
+        ("at", "?object", "?object-v"),
+        ("free",),
+        ("thing", "?object"),
+        ("place", "?object-v"),
+    }
+    assert pick.negpre == {("holding", "?object")}
+    assert pick.delete == {("at", "?object", "?object-v"), ("free",)}
+    assert drop.params == ("?when", "?p") and drop.add == {("at", "?when", "?p"), ("free",)}
+    assert m.predicates["at"] == 2 and m.function_arities == {"weight": 1}
+
+
+@pytest.mark.parametrize(
+    ("where", "old", "new", "what"),
+    [
+        ("problem", "box - thing", "either - thing", "an object"),
+        (
+            "domain",
+            "(:types thing place)",
+            "(:types thing place)\n  (:constants domain)",
+            "a constant",
+        ),
+        ("domain", "(free))", "(free) (either))", "a predicate"),
+        ("domain", ":action drop", ":action and", "an action"),
+        ("domain", "(:types thing place)", "(:types thing place oneof)", "a type"),
+    ],
+)
+def test_keywords_as_names_of_objects_and_schemas_are_refused(where, old, new, what):
+    dom, prob = KEYWORD_DOMAIN, KEYWORD_PROBLEM
+    if where == "domain":
+        dom = dom.replace(old, new, 1)
+    else:
+        prob = prob.replace(old, new, 1)
+    assert (dom, prob) != (KEYWORD_DOMAIN, KEYWORD_PROBLEM)
+    with pytest.raises(PDDLError, match=f"the keyword '.*' as the name of {what} is not sup"):
+        parse_model(dom, prob)

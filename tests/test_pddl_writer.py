@@ -224,3 +224,19 @@ def test_val_accepts_written_models_and_plan(tmp_path):
                          text=True, timeout=60)  # fmt: skip
     assert "Plan valid" in run.stdout, run.stdout[-2000:] + run.stderr[-2000:]
     assert "Final value: 6" in run.stdout
+
+
+def test_keyword_named_variables_round_trip_and_fast_downward_reads_them():
+    from test_pddl_reader import KEYWORD_DOMAIN, KEYWORD_PROBLEM
+
+    from mega_sat.ground.grounding import ground_model
+    from mega_sat.planners.fast_downward import fd_available, fd_plan
+    from mega_sat.search.astar import astar
+
+    m = parse_model(KEYWORD_DOMAIN, KEYWORD_PROBLEM)
+    dom, prob = domain_to_pddl(m), problem_to_pddl(m)
+    assert "(?object ?object-v)" in dom
+    assert gamma(parse_model(dom, prob)) == gamma(m)
+    if fd_available():
+        ours = astar(ground_model(m))
+        assert ours.cost == 2 and fd_plan(dom, prob).cost == ours.cost

@@ -30,6 +30,7 @@ it in :mod:`mega_sat.pddl.check_problem`.
 
 from __future__ import annotations
 
+import functools
 import re
 from collections.abc import Iterator
 from dataclasses import dataclass, field
@@ -104,6 +105,26 @@ class DomainInfo:
     edits: list[tuple[int, int, str]] = field(default_factory=list)
     """Text edits (start, end, replacement) that turn valid PDDL the ``pddl`` library's grammar
     cannot read (an empty section, an action without ``:parameters``) into PDDL it reads."""
+    variables: dict[str, dict[str, str]] = field(default_factory=dict)
+    """Per action, the variables renamed by the edits because the library takes their names for
+    keywords (``?object``): the new name to the file's own, to name them as the file does."""
+
+
+@functools.cache
+def reserved_words() -> frozenset[str]:
+    """Words the ``pddl`` library refuses as names ('object', 'domain', 'either', ...), though
+    PDDL allows most of them as variable names."""
+    from pddl.parser.symbols import ALL_SYMBOLS
+
+    return frozenset(w for w in ALL_SYMBOLS if w[0].isalpha())
+
+
+def _tokens(node: Node) -> Iterator[Tok]:
+    if isinstance(node, Tok):
+        yield node
+    else:
+        for item in node.items:
+            yield from _tokens(item)
 
 
 class Checker:
@@ -186,6 +207,34 @@ class Checker:
             i += 1
         out.extend((p, "object") for p in pending)
         return out
+
+    def rename_keyword_variables(
+        self, node: SList, variables: list[str], info: DomainInfo, action: str | None = None
+    ) -> None:
+        """Schedule renaming each variable of ``variables`` named like a keyword of the
+        library (``?object``) everywhere in ``node``, its scope; for an ``action``, record the
+        new name so that the model names it as the file does."""
+        reserved = reserved_words()
+        used = {t.text for t in _tokens(node) if t.text.startswith("?")}
+        for var in variables:
+            if var[1:] not in reserved:
+                continue
+            k, fresh = 0, f"{var}-v"
+            while fresh in used:
+                k += 1
+                fresh = f"{var}-v{k}"
+            used.add(fresh)
+            if action is not None:
+                info.variables.setdefault(action, {})[fresh] = var
+            info.edits += [
+                (t.end - len(t.text), t.end, fresh) for t in _tokens(node) if t.text == var
+            ]
+
+    def name_not_reserved(self, tok: Node, what: str) -> None:
+        """Refuse a name the ``pddl`` library reserves ('either', 'domain', ...) for ``what`` (an
+        object, a predicate, ...): unlike a variable it would appear renamed in plans."""
+        if isinstance(tok, Tok) and tok.text in reserved_words():
+            raise self.refuse(f"the keyword '{tok.text}' as the name of {what}", tok)
 
     def check_type(self, typ: str, types: dict[str, str], node: Node, what: str) -> None:
         if typ != "object" and typ not in types:
@@ -278,6 +327,7 @@ class Checker:
                 self.types(node, info)
             elif key == ":constants":
                 for tok, typ in self.typed_list(node.items[1:], ":constants"):
+                    self.name_not_reserved(tok, "a constant")
                     info.constants[tok.text] = typ
                     self.check_type(typ, info.types, tok, ":constants")
             elif key == ":predicates":
@@ -307,6 +357,8 @@ class Checker:
         rewrite = False  # 'object' or a type declared again: valid, the library refuses both
         for tok, parent in self.typed_list(node.items[1:], ":types"):
             t = tok.text
+            if t != "object":
+                self.name_not_reserved(tok, "a type")
             rewrite |= t == "object" or t in declared
             declared.add(t)
             if t == "object":
@@ -349,7 +401,9 @@ class Checker:
                 continue
             if not isinstance(p, SList) or p.head is None:
                 raise self.fail(f"malformed predicate declaration {show(p)}", p)
+            self.name_not_reserved(p.items[0], "a predicate")
             args = self.typed_list(p.items[1:], f"predicate '{p.head}'", either_ok=True)
+            self.rename_keyword_variables(p, [t.text for t, _ in args], info)
             if p.head in info.types:
                 raise self.fail(
                     f"'{p.head}' is both a type and a predicate (types become predicates)", p
@@ -371,7 +425,10 @@ class Checker:
                 continue
             if not isinstance(f, SList) or f.head is None:
                 raise self.fail(f"malformed function declaration {show(f)}", f)
+            if f.head != "total-cost":
+                self.name_not_reserved(f.items[0], "a function")
             args = self.typed_list(f.items[1:], f"function '{f.head}'", either_ok=True)
+            self.rename_keyword_variables(f, [t.text for t, _ in args], info)
             if f.head == "total-cost":
                 if args:
                     raise self.fail("'total-cost' takes no arguments", f)
@@ -385,6 +442,7 @@ class Checker:
         if len(items) < 2 or not isinstance(items[1], Tok) or items[1].text.startswith(":"):
             raise self.fail("expected an action name after ':action'", node)
         name = items[1].text
+        self.name_not_reserved(items[1], "an action")
         what = f"action '{name}'"
         parts: dict[str, Node] = {}
         i = 2
@@ -413,6 +471,13 @@ class Checker:
                     raise self.fail(f"duplicate parameter '{tok.text}' in {what}", tok)
                 self.check_type(typ, info.types, tok, f"the parameters of {what}")
                 variables.add(tok.text)
+        if params is not None:
+            self.rename_keyword_variables(
+                node,
+                [t.text for t in params.items if isinstance(t, Tok) and t.text.startswith("?")],
+                info,
+                name,
+            )
         pre = parts.get(":precondition")
         if pre is not None:
             self.condition(pre, info, variables, f"the precondition of {what}")

@@ -50,6 +50,7 @@ class ProblemChecker(Checker):
             elif key == ":objects":
                 listed: set[str] = set()
                 for tok, typ in self.typed_list(node.items[1:], ":objects"):
+                    self.name_not_reserved(tok, "an object")
                     self.check_type(typ, info.types, tok, ":objects")
                     if tok.text in listed and objects[tok.text] == typ:
                         raise self.fail(f"object '{tok.text}' is declared twice", tok)

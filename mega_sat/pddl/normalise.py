@@ -97,6 +97,28 @@ def _schema(action, uses_costs: bool, path: str) -> Schema:
     )
 
 
+def _named_as_in_file(s: Schema, names: dict[str, str]) -> Schema:
+    """``s`` with the variables the reading renamed (:attr:`DomainInfo.variables`) named as
+    the file names them."""
+
+    def ren(atoms):
+        return frozenset((a[0], *(names.get(x, x) for x in a[1:])) for a in atoms)
+
+    cost = (
+        s.cost if isinstance(s.cost, int) else (s.cost[0], *(names.get(x, x) for x in s.cost[1:]))
+    )
+    return Schema(
+        s.name,
+        tuple(names.get(p, p) for p in s.params),
+        ren(s.pre),
+        ren(s.negpre),
+        ren(s.add),
+        ren(s.delete),
+        cost,
+        ren(s.signature),
+    )
+
+
 def _type_atoms(obj: str, typ: str, types: dict[str, str]) -> set[Atom]:
     """``(t obj)`` for ``typ`` and each of its supertypes except ``object``."""
     out = set()
@@ -117,6 +139,8 @@ def to_model(domain, problem, info: DomainInfo, domain_path: str, problem_path: 
     schemas = {}
     for action in sorted(domain.actions, key=lambda a: str(a.name)):
         s = _schema(action, uses_costs, domain_path)
+        if s.name in info.variables:
+            s = _named_as_in_file(s, info.variables[s.name])
         schemas[s.name] = s
 
     predicates = {str(p.name): len(p.terms) for p in domain.predicates}
