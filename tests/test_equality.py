@@ -176,7 +176,7 @@ def test_equality_is_never_a_difference():
     precondition, and no initial-state '=' atom, even when one model lacks equality."""
     task = _task()
     assert [u.name for u in task.delta] == [
-        "add-move-has-negprecondition-= ?x ?to",
+        "add-move-has-negprecondition-= ?to ?x",  # written one way: = is symmetric
         "add-stack-has-cost-2",
     ]
     no_eq = HUMAN_DOMAIN.replace("(not (= ?from ?to)) (not (= ?to table))", "").replace(
@@ -187,6 +187,19 @@ def test_equality_is_never_a_difference():
     t2 = load_task_from_strings(ROBOT_DOMAIN, PROBLEM, no_eq, PROBLEM)
     assert all(u.feature.kind == "negpre" or "cost" in u.name for u in t2.delta)
     assert len(t2.delta) == 6
+
+
+def test_equality_is_symmetric_and_x_equals_x_says_nothing():
+    """``(= ?to ?from)`` says what ``(= ?from ?to)`` says, and ``(= ?x ?x)`` nothing: neither is
+    a difference, and the shared negated equality still prunes."""
+    swapped = ROBOT_DOMAIN.replace("(not (= ?from ?to))", "(not (= ?to ?from))").replace(
+        "(not (= ?x ?y))", "(not (= ?y ?x)) (= ?y ?y)"
+    )
+    task = load_task_from_strings(ROBOT_DOMAIN, PROBLEM, swapped, PROBLEM)
+    assert task.delta == ()
+    steps = {(a.name, *a.args) for a in ground(task).actions}
+    assert not any(s[0] == "move" and s[2] == s[3] for s in steps)
+    assert not any(s[0] == "stack" and s[1] == s[2] for s in steps)
 
 
 def test_groundings_both_models_forbid_are_left_out():
@@ -277,7 +290,7 @@ def test_written_model_uses_pddl_equality_and_reads_back_the_same():
     task = _task()
     model = task.updated_model(range(len(task.delta)))
     dom, prob = domain_to_pddl(model), problem_to_pddl(model)
-    assert ":equality" in dom and "(not (= ?x ?to))" in dom
+    assert ":equality" in dom and "(not (= ?to ?x))" in dom
     assert "(= " not in dom.split("(:predicates")[1].split(")\n")[0]
     assert "(= a a)" not in prob
     back = parse_model(dom, prob)

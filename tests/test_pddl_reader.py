@@ -511,3 +511,34 @@ def test_keywords_as_names_of_objects_and_schemas_are_refused(where, old, new, w
     assert (dom, prob) != (KEYWORD_DOMAIN, KEYWORD_PROBLEM)
     with pytest.raises(PDDLError, match=f"the keyword '.*' as the name of {what} is not sup"):
         parse_model(dom, prob)
+
+
+def test_header_sections_in_any_order_after_the_types():
+    """Fast Downward reads :constants after :predicates (the BNF's order is not kept by hand
+    written domains); a section given twice, or :types after the others, is one clear error."""
+    dom = """(define (domain d) (:requirements :strips :action-costs) (:types t)
+      (:functions (c ?x - t) - number (total-cost) - number)
+      (:predicates (p ?x - t))
+      (:constants k - t)
+      (:action a :parameters (?x - t) :precondition (p ?x)
+        :effect (and (not (p ?x)) (p k) (increase (total-cost) (c ?x)))))"""
+    prob = """(define (problem q) (:domain d) (:objects o - t)
+      (:init (p o) (= (c o) 2) (= (c k) 1)) (:goal (p k)))"""
+    m = parse_model(dom, prob)
+    assert m.objects == {"k", "o"} and m.schemas["a"].cost == ("c", "?x")
+    assert m.schemas["a"].add == {("p", "k")} and m.function_arities == {"c": 1}
+    twice = dom.replace("(:constants k - t)", "(:constants k - t)\n      (:predicates (q))")
+    with pytest.raises(PDDLError, match=r"^d\.pddl: line 5: a second ':predicates' section$"):
+        parse_model(twice, prob, domain_path="d.pddl")
+    late = dom.replace(" (:types t)", "").replace("(:constants k - t)", "(:types t)")
+    with pytest.raises(PDDLError, match=r"line 4: ':types' must come before ':constants'"):
+        parse_model(late, prob)
+
+
+def test_negated_equalities_in_init_are_dropped():
+    prob = BASE_PROBLEM.read_text().replace("(:init", "(:init (not (= o1 o2))")
+    m = parse_model(BASE_DOMAIN.read_text(), prob)
+    assert m.init == {("p", "o1"), ("r", "o1", "o2")}
+    bad = BASE_PROBLEM.read_text().replace("(:init", "(:init (not (= o1 o1))")
+    with pytest.raises(PDDLError, match=r"'\(not \(= o1 o1\)\)' in :init contradicts equality"):
+        parse_model(BASE_DOMAIN.read_text(), bad)

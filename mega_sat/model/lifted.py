@@ -124,3 +124,25 @@ def with_equality(model: Model, objects: frozenset[str]) -> Model:
         predicates={**model.predicates, EQUALITY: 2},
         init=init | {(EQUALITY, o, o) for o in objects},
     )
+
+
+def _canonical(atoms: frozenset[Atom], positive: bool) -> frozenset[Atom]:
+    out = set()
+    for a in atoms:
+        if a[0] == EQUALITY and len(a) == 3:
+            if positive and a[1] == a[2]:
+                continue  # (= ?x ?x) always holds
+            a = (EQUALITY, *sorted(a[1:]))
+        out.add(a)
+    return frozenset(out)
+
+
+def canonical_equalities(model: Model) -> Model:
+    """``model`` with each equality written one way: ``(= ?to ?from)`` as ``(= ?from ?to)``
+    (equality is symmetric) and without the always-true ``(= ?x ?x)``, so that two models that
+    say the same differ in no equality feature."""
+    schemas = {
+        n: replace(s, pre=_canonical(s.pre, True), negpre=_canonical(s.negpre, False))
+        for n, s in model.schemas.items()
+    }
+    return replace(model, schemas=schemas)

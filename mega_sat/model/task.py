@@ -13,7 +13,14 @@ from functools import cached_property
 
 from mega_sat.errors import ModelMismatchError, UsageError
 from mega_sat.model.features import Update, apply_updates, model_difference
-from mega_sat.model.lifted import Atom, Model, Schema, uses_equality, with_equality
+from mega_sat.model.lifted import (
+    Atom,
+    Model,
+    Schema,
+    canonical_equalities,
+    uses_equality,
+    with_equality,
+)
 
 Selection = frozenset[int]
 """A subset E of Delta, as indices into ``TwoModelTask.delta``."""
@@ -109,7 +116,8 @@ class TwoModelTask:
         cls, robot: Model, human: Model, sources: dict[str, str] | None = None
     ) -> TwoModelTask:
         sources = sources or {}
-        if uses_equality(robot) or uses_equality(human):
+        equality = uses_equality(robot) or uses_equality(human)
+        if equality:
             # equality is built in, not a belief: both models hold (= o o) for every object
             objects = robot.objects | human.objects
             robot, human = with_equality(robot, objects), with_equality(human, objects)
@@ -121,6 +129,8 @@ class TwoModelTask:
             robot_problem_name=sources.get("robot_problem"),
             human_problem_name=sources.get("human_problem"),
         )
+        if equality:  # after the human's parameters take the robot's names
+            robot, human = canonical_equalities(robot), canonical_equalities(human)
         return cls(robot, human, model_difference(robot, human), dict(sources))
 
     @cached_property

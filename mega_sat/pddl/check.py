@@ -311,7 +311,17 @@ class Checker:
         _, info.name = self.header(root, "domain")
         actions: list[SList] = []
         flag_sections: list[SList] = []
+        once: set[str] = set()
         for key, node in self.sections(root):
+            if key in (":types", ":constants", ":predicates", ":functions"):
+                if key in once:
+                    raise self.fail(f"a second '{key}' section", node)
+                once.add(key)
+                if key == ":types" and once - {":types"}:
+                    raise self.fail(
+                        "':types' must come before ':constants', ':predicates' and ':functions'",
+                        node,
+                    )
             if len(node.items) == 1 and key in (
                 ":types",
                 ":constants",

@@ -23,8 +23,9 @@ class ProblemChecker(Checker):
     """The checks of a problem file, against what the domain check found."""
 
     def problem(self, root: SList, info: DomainInfo) -> list[SList]:
-        """Check a problem against ``info``; return its ``:requirements`` sections, which a repaired
-        text leaves out (the domain's flags are the ones that count)."""
+        """Check a problem against ``info``; return the forms a repaired text leaves out: its
+        ``:requirements`` sections (the domain's flags are the ones that count) and negated
+        equalities in ``:init`` (true by equality)."""
         self.header(root, "problem")
         self.values: dict[tuple[str, ...], int] = {}
         drop: list[SList] = []
@@ -65,7 +66,8 @@ class ProblemChecker(Checker):
             elif key == ":init":
                 saw_init = True
                 for el in node.items[1:]:
-                    self.init_element(el, info, objects)
+                    if self.init_element(el, info, objects):
+                        drop.append(el)
             elif key == ":goal":
                 saw_goal = True
                 if len(node.items) != 2:
@@ -83,7 +85,8 @@ class ProblemChecker(Checker):
             raise self.fail("missing (:goal ...)", root)
         return drop
 
-    def init_element(self, el: Node, info: DomainInfo, objects: dict[str, str]) -> None:
+    def init_element(self, el: Node, info: DomainInfo, objects: dict[str, str]) -> bool:
+        """Check one element of :init; True for one to leave out (it says nothing)."""
         if not isinstance(el, SList):
             raise self.fail(f"expected an atom in :init, got {show(el)}", el)
         if el.head == "=":
@@ -91,7 +94,16 @@ class ProblemChecker(Checker):
         elif el.head == "not":
             if len(el.items) != 2 or not isinstance(el.items[1], SList):
                 raise self.fail("malformed 'not' in :init", el)
-            self.atom(el.items[1], info, None, objects, ":init")
+            sub = el.items[1]
+            if sub.head == "=" and not self.is_numeric(sub) and len(sub.items) == 3:
+                # a negated equality of objects, as some problems state: closed world and
+                # equality say it already, unless it denies that an object equals itself
+                self.terms(sub.items[1:], None, objects, ":init")
+                a = sub.items[1].text
+                if a == sub.items[2].text:
+                    raise self.fail(f"'(not (= {a} {a}))' in :init contradicts equality", el)
+                return True
+            self.atom(sub, info, None, objects, ":init")
         elif (
             el.head == "at"
             and len(el.items) == 3
@@ -102,6 +114,7 @@ class ProblemChecker(Checker):
             raise self.refuse("timed initial literal '(at TIME ...)'", el)
         else:
             self.atom(el, info, None, objects, ":init")
+        return False
 
     def function_value(self, el: SList, info: DomainInfo, objects: dict[str, str]) -> None:
         if len(el.items) != 3 or not isinstance(el.items[1], SList):

@@ -43,12 +43,26 @@ def _parser(kind: str):
 
     from mega_sat.pddl.parser_cache import cached_parser
 
-    grammar = GRAMMAR_FILE.read_text()
+    grammar = _lenient(GRAMMAR_FILE.read_text())
     return cached_parser(
         grammar,
         kind,
         lambda: Lark(grammar, parser="lalr", import_paths=[PARSERS_DIRECTORY], start=kind),
     )
+
+
+_HEADER_ORDER = "[constants] [predicates] [functions] structure_def*"
+
+
+def _lenient(grammar: str) -> str:
+    """The library's grammar with a domain's ``:constants``, ``:predicates`` and ``:functions``
+    in any order after ``:types``, as Fast Downward reads them (the BNF fixes their order, and
+    domains written by hand often differ).  The transformer does not depend on their order,
+    only on the types coming first.  A grammar without the expected rule stays as it is."""
+    if _HEADER_ORDER not in grammar:
+        return grammar
+    rule = "\n_domain_header: constants | predicates | functions\n"
+    return grammar.replace(_HEADER_ORDER, "_domain_header* structure_def*") + rule
 
 
 @functools.cache
