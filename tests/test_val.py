@@ -85,3 +85,23 @@ def test_verify_does_not_hand_val_steps_it_cannot_read(plan, why, tmp_path):
     assert res.exit_code == 1, res.output
     val_lines = [ln for ln in res.output.splitlines() if ln.startswith("FAIL VAL:")]
     assert len(val_lines) == 2 and all("not run: step 1" in ln and why in ln for ln in val_lines)
+
+
+def test_variables_val_reserves_are_written_by_position(tmp_path):
+    """VAL refuses variables named ?after, ?either, ?number (legal PDDL): the PDDL written for
+    VAL and Fast Downward names parameters by position, so --verify checks such a model."""
+    from mega_sat.api import MegaSolver, load_task_from_strings
+    from mega_sat.pddl.writer import domain_to_pddl
+
+    dom = """(define (domain d) (:requirements :strips)
+      (:predicates (p ?x) (q ?x ?y))
+      (:action a :parameters (?after ?either) :precondition (p ?after)
+        :effect (and (q ?after ?either) (not (p ?after)))))"""
+    prob = "(define (problem p1) (:domain d) (:objects o r) (:init (p o)) (:goal (q o r)))"
+    task = load_task_from_strings(dom, prob, dom.replace("(not (p ?after))", ""), prob)
+    assert "(?after ?either)" in domain_to_pddl(task.robot)
+    assert "(?v0 ?v1)" in domain_to_pddl(task.robot, plain_variables=True)
+    solver = MegaSolver(task)
+    point = solver.frontier().points[0]
+    report = solver.verify(point)
+    assert report.ok and any(c.name.startswith("VAL") for c in report.checks), report.lines()

@@ -13,6 +13,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 from mega_sat.deadline import Deadline, TimeLimitReached
+from mega_sat.errors import PlannerError
 from mega_sat.ground.family import GroundFamily
 from mega_sat.ground.simulate import simulate, step_mismatch
 from mega_sat.model.lifted import PlanStep, step_str
@@ -302,11 +303,16 @@ def verify_pair(
                     continue
                 try:
                     v = val_validate(
-                        domain_to_pddl(model), problem_to_pddl(model), plan, deadline=deadline
+                        domain_to_pddl(model, plain_variables=True),
+                        problem_to_pddl(model),
+                        plan,
+                        deadline=deadline,
                     )
                 except TimeLimitReached as e:
                     # as for the optimum: the checks before VAL are finished answers
                     raise ChecksCutShort(e, checks, f"VAL: valid in {label}") from None
+                except PlannerError as e:  # VAL could not read what was written for it
+                    raise PlannerError(f"VAL could not check the plan in {label}: {e}") from None
                 ok, detail = v.valid, f"cost {v.cost}" if v.valid else v.message
                 if v.valid and sim.valid and sim.cost is not None:
                     if sim.cost >= VAL_INT_LIMIT:

@@ -108,8 +108,35 @@ def _action(s: Schema, costs: bool) -> str:
     )
 
 
-def domain_to_pddl(model: Model) -> str:
-    """The domain file of ``model`` (untyped; type predicates are ordinary predicates)."""
+def _plain_variables(s: Schema) -> Schema:
+    """``s`` with its parameters named ``?v0``, ``?v1``, ... by position: the same action, in
+    names no tool takes for a keyword (VAL refuses ``?after``, ``?either``, ``?number``)."""
+    names = {p: f"?v{k}" for k, p in enumerate(s.params)}
+
+    def ren(atoms: frozenset[Atom]) -> frozenset[Atom]:
+        return frozenset((a[0], *(names.get(x, x) for x in a[1:])) for a in atoms)
+
+    cost = s.cost
+    if not isinstance(cost, int):
+        cost = (cost[0], *(names.get(x, x) for x in cost[1:]))
+    return Schema(
+        s.name,
+        tuple(names[p] for p in s.params),
+        ren(s.pre),
+        ren(s.negpre),
+        ren(s.add),
+        ren(s.delete),
+        cost,
+        ren(s.signature),
+    )
+
+
+def domain_to_pddl(model: Model, *, plain_variables: bool = False) -> str:
+    """The domain file of ``model`` (untyped; type predicates are ordinary predicates).
+
+    ``plain_variables``: parameters named by position (``?v0`` ...) rather than as the model
+    names them, for PDDL that goes to Fast Downward or VAL, whose parsers reserve more words
+    than PDDL does; the actions and plans are the same."""
     costs = _writes_costs(model)
     reqs = [":strips"]
     if any(s.negpre for s in model.schemas.values()):
@@ -136,7 +163,8 @@ def domain_to_pddl(model: Model) -> str:
         )
         lines.append(f"  (:functions {decl})")
     for name in sorted(model.schemas):
-        lines.append(_action(model.schemas[name], costs))
+        schema = model.schemas[name]
+        lines.append(_action(_plain_variables(schema) if plain_variables else schema, costs))
     return "\n".join(lines) + ")\n"
 
 

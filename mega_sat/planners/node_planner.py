@@ -231,7 +231,9 @@ class NodePlanner:
         # a planner made for a ground family alone (no lifted task) hands FD the ground model
         model = self.task.updated_model(sel) if self.task is not None else None
         if model is not None and not any(s.negpre for s in model.schemas.values()):
-            return FdRun(domain_to_pddl(model), problem_to_pddl(model), deadline=call), None
+            return FdRun(
+                domain_to_pddl(model, plain_variables=True), problem_to_pddl(model), deadline=call
+            ), None
         dom, prob, names = ground_strips_pddl(task)
         return FdRun(dom, prob, deadline=call), names
 
