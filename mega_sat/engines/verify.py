@@ -291,7 +291,7 @@ def verify_pair(
 
         if val_available():
             from mega_sat.pddl.writer import domain_to_pddl, problem_to_pddl
-            from mega_sat.planners.val import val_validate
+            from mega_sat.planners.val import val_names, val_validate
 
             models = (("robot model", task.robot, sim_r), ("human + E", updated, sim_h))
             for label, model, sim in models:
@@ -301,11 +301,12 @@ def verify_pair(
                     # not satisfied" for too many: it is not asked about steps it cannot read
                     checks.append(Check(f"VAL: valid in {label}", False, f"not run: {bad}"))
                     continue
+                val_model, val_plan = val_names(model, plan)
                 try:
                     v = val_validate(
-                        domain_to_pddl(model, plain_variables=True),
-                        problem_to_pddl(model),
-                        plan,
+                        domain_to_pddl(val_model, plain_variables=True),
+                        problem_to_pddl(val_model),
+                        val_plan,
                         deadline=deadline,
                     )
                 except TimeLimitReached as e:

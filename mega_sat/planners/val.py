@@ -17,7 +17,15 @@ from pathlib import Path
 
 from mega_sat.deadline import NO_DEADLINE, Deadline, TimeLimitReached
 from mega_sat.errors import PlannerError
-from mega_sat.model.lifted import PlanStep, step_str
+from mega_sat.model.lifted import Atom, Model, PlanStep, Schema, step_str
+
+VAL_RESERVED = frozenset({
+    "after", "always", "always-within", "at-most-once", "duration", "hold-after", "hold-during",
+    "is-violated", "number", "preference", "sometime", "sometime-after", "sometime-before",
+    "total-time", "within",
+})  # fmt: skip
+"""Words VAL's parser takes for keywords although PDDL allows them as names (each found by
+trying it as an object's name, which VAL cannot read at all)."""
 
 VAL_SECONDS = 600.0
 """A VAL run that takes longer than this is stuck (it validates one plan in milliseconds)."""
@@ -110,3 +118,60 @@ def val_validate(
                 raise TimeLimitReached(deadline.seconds) from None
             raise PlannerError(f"VAL did not finish within {VAL_SECONDS:g} s") from None
     return _parse(proc.stdout, proc.stderr, proc.returncode)
+
+
+def val_names(model: Model, plan: Sequence[PlanStep]) -> tuple[Model, tuple[PlanStep, ...]]:
+    """``model`` and ``plan`` with every name in :data:`VAL_RESERVED` (an object, a predicate,
+    an action, a function) renamed, so that VAL reads them; the same task otherwise."""
+    names: set[str] = {*model.objects, *model.predicates, *model.schemas, *model.function_arities}
+    for atoms in (model.init, model.goal, model.functions):
+        names.update(x for a in atoms for x in a)
+    for sc in model.schemas.values():
+        names.update(x for a in (*sc.pre, *sc.negpre, *sc.add, *sc.delete) for x in a)
+        if not isinstance(sc.cost, int):
+            names.update(sc.cost)
+    bad = sorted(names & VAL_RESERVED)
+    if not bad:
+        return model, tuple(plan)
+    ren: dict[str, str] = {}
+    for word in bad:
+        k, fresh = 0, f"{word}-v"
+        while fresh in names:
+            k += 1
+            fresh = f"{word}-v{k}"
+        names.add(fresh)
+        ren[word] = fresh
+
+    def atom(a: tuple[str, ...]) -> tuple[str, ...]:
+        return tuple(ren.get(x, x) for x in a)
+
+    def atoms(xs: frozenset[Atom]) -> frozenset[Atom]:
+        return frozenset(atom(a) for a in xs)
+
+    schemas = {
+        ren.get(n, n): Schema(
+            ren.get(n, n),
+            sc.params,
+            atoms(sc.pre),
+            atoms(sc.negpre),
+            atoms(sc.add),
+            atoms(sc.delete),
+            sc.cost if isinstance(sc.cost, int) else atom(sc.cost),
+            atoms(sc.signature),
+        )
+        for n, sc in model.schemas.items()
+    }
+    renamed = Model(
+        domain_name=model.domain_name,
+        problem_name=model.problem_name,
+        predicates={ren.get(p, p): k for p, k in model.predicates.items()},
+        schemas=schemas,
+        objects=frozenset(ren.get(o, o) for o in model.objects),
+        init=atoms(model.init),
+        goal=atoms(model.goal),
+        type_predicates=frozenset(ren.get(t, t) for t in model.type_predicates),
+        functions={atom(t): v for t, v in model.functions.items()},
+        function_arities={ren.get(f, f): k for f, k in model.function_arities.items()},
+        uses_costs=model.uses_costs,
+    )
+    return renamed, tuple(atom(step) for step in plan)
