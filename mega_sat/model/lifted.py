@@ -111,6 +111,40 @@ class Model:
         return self.functions[term]
 
 
+def unused_name(base: str, taken: set[str]) -> str:
+    """``base-v``, or ``base-v1``, ``base-v2``, ... : the first not in ``taken``, which gets it."""
+    k, name = 0, f"{base}-v"
+    while name in taken:
+        k += 1
+        name = f"{base}-v{k}"
+    taken.add(name)
+    return name
+
+
+def rename_schema(s: Schema, names: Mapping[str, str], *, heads: bool = False) -> Schema:
+    """``s`` with every name of ``names`` replaced by its value, all at once: parameters,
+    arguments of atoms and of the cost term; with ``heads`` also the schema's name and the
+    predicate and function names."""
+
+    def one(t: tuple[str, ...]) -> tuple[str, ...]:
+        first = names.get(t[0], t[0]) if heads else t[0]
+        return (first, *(names.get(x, x) for x in t[1:]))
+
+    def atoms(xs: frozenset[Atom]) -> frozenset[Atom]:
+        return frozenset(one(a) for a in xs)
+
+    return Schema(
+        names.get(s.name, s.name) if heads else s.name,
+        tuple(names.get(p, p) for p in s.params),
+        atoms(s.pre),
+        atoms(s.negpre),
+        atoms(s.add),
+        atoms(s.delete),
+        s.cost if isinstance(s.cost, int) else one(s.cost),
+        atoms(s.signature),
+    )
+
+
 def uses_equality(model: Model) -> bool:
     return EQUALITY in model.predicates
 

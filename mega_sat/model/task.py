@@ -14,20 +14,16 @@ from functools import cached_property
 from mega_sat.errors import ModelMismatchError, UsageError
 from mega_sat.model.features import Update, apply_updates, model_difference
 from mega_sat.model.lifted import (
-    Atom,
     Model,
     Schema,
     canonical_equalities,
+    rename_schema,
     uses_equality,
     with_equality,
 )
 
 Selection = frozenset[int]
 """A subset E of Delta, as indices into ``TwoModelTask.delta``."""
-
-
-def _rename(atoms: frozenset[Atom], ren: dict[str, str]) -> frozenset[Atom]:
-    return frozenset((a[0],) + tuple(ren.get(x, x) for x in a[1:]) for a in atoms)
 
 
 def align_human(
@@ -70,20 +66,8 @@ def align_human(
                 f"action '{name}' has {len(rs.params)} parameter(s) in {robot_name} but "
                 f"{len(hs.params)} in {human_name}"
             )
-        ren = dict(zip(hs.params, rs.params, strict=True))
-        cost = hs.cost
-        if not isinstance(cost, int):
-            cost = (cost[0],) + tuple(ren.get(x, x) for x in cost[1:])
-        schemas[name] = Schema(
-            name,
-            rs.params,
-            _rename(hs.pre, ren),
-            _rename(hs.negpre, ren),
-            _rename(hs.add, ren),
-            _rename(hs.delete, ren),
-            cost,
-            _rename(hs.signature, ren),
-        )
+        # by position: the human's parameters take the robot's names
+        schemas[name] = rename_schema(hs, dict(zip(hs.params, rs.params, strict=True)))
     return Model(
         domain_name=human.domain_name,
         problem_name=human.problem_name,

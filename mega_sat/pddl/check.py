@@ -36,6 +36,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field
 
 from mega_sat.errors import PDDLError
+from mega_sat.model.lifted import unused_name
 from mega_sat.pddl.sexpr import Node, SList, Tok, show
 
 ACCEPTED_REQS = frozenset({
@@ -219,11 +220,7 @@ class Checker:
         for var in variables:
             if var[1:] not in reserved:
                 continue
-            k, fresh = 0, f"{var}-v"
-            while fresh in used:
-                k += 1
-                fresh = f"{var}-v{k}"
-            used.add(fresh)
+            fresh = unused_name(var, used)
             if action is not None:
                 info.variables.setdefault(action, {})[fresh] = var
             info.edits += [

@@ -11,7 +11,15 @@ input has passed :mod:`mega_sat.pddl.check`, so anything else is a construct the
 from __future__ import annotations
 
 from mega_sat.errors import PDDLError
-from mega_sat.model.lifted import EQUALITY, Atom, CostTerm, Model, Schema, with_equality
+from mega_sat.model.lifted import (
+    EQUALITY,
+    Atom,
+    CostTerm,
+    Model,
+    Schema,
+    rename_schema,
+    with_equality,
+)
 from mega_sat.pddl.check import DomainInfo
 
 
@@ -97,28 +105,6 @@ def _schema(action, uses_costs: bool, path: str) -> Schema:
     )
 
 
-def _named_as_in_file(s: Schema, names: dict[str, str]) -> Schema:
-    """``s`` with the variables the reading renamed (:attr:`DomainInfo.variables`) named as
-    the file names them."""
-
-    def ren(atoms):
-        return frozenset((a[0], *(names.get(x, x) for x in a[1:])) for a in atoms)
-
-    cost = (
-        s.cost if isinstance(s.cost, int) else (s.cost[0], *(names.get(x, x) for x in s.cost[1:]))
-    )
-    return Schema(
-        s.name,
-        tuple(names.get(p, p) for p in s.params),
-        ren(s.pre),
-        ren(s.negpre),
-        ren(s.add),
-        ren(s.delete),
-        cost,
-        ren(s.signature),
-    )
-
-
 def _type_atoms(obj: str, typ: str, types: dict[str, str]) -> set[Atom]:
     """``(t obj)`` for ``typ`` and each of its supertypes except ``object``."""
     out = set()
@@ -140,7 +126,7 @@ def to_model(domain, problem, info: DomainInfo, domain_path: str, problem_path: 
     for action in sorted(domain.actions, key=lambda a: str(a.name)):
         s = _schema(action, uses_costs, domain_path)
         if s.name in info.variables:
-            s = _named_as_in_file(s, info.variables[s.name])
+            s = rename_schema(s, info.variables[s.name])  # the file's own names
         schemas[s.name] = s
 
     predicates = {str(p.name): len(p.terms) for p in domain.predicates}

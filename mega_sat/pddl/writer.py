@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from mega_sat.model.lifted import EQUALITY, Atom, CostTerm, Model, Schema, atom_pddl
+from mega_sat.model.lifted import EQUALITY, Atom, CostTerm, Model, Schema, atom_pddl, rename_schema
 
 
 def _writes_costs(model: Model) -> bool:
@@ -108,29 +108,6 @@ def _action(s: Schema, costs: bool) -> str:
     )
 
 
-def _plain_variables(s: Schema) -> Schema:
-    """``s`` with its parameters named ``?v0``, ``?v1``, ... by position: the same action, in
-    names no tool takes for a keyword (VAL refuses ``?after``, ``?either``, ``?number``)."""
-    names = {p: f"?v{k}" for k, p in enumerate(s.params)}
-
-    def ren(atoms: frozenset[Atom]) -> frozenset[Atom]:
-        return frozenset((a[0], *(names.get(x, x) for x in a[1:])) for a in atoms)
-
-    cost = s.cost
-    if not isinstance(cost, int):
-        cost = (cost[0], *(names.get(x, x) for x in cost[1:]))
-    return Schema(
-        s.name,
-        tuple(names[p] for p in s.params),
-        ren(s.pre),
-        ren(s.negpre),
-        ren(s.add),
-        ren(s.delete),
-        cost,
-        ren(s.signature),
-    )
-
-
 def domain_to_pddl(model: Model, *, plain_variables: bool = False) -> str:
     """The domain file of ``model`` (untyped; type predicates are ordinary predicates).
 
@@ -164,7 +141,9 @@ def domain_to_pddl(model: Model, *, plain_variables: bool = False) -> str:
         lines.append(f"  (:functions {decl})")
     for name in sorted(model.schemas):
         schema = model.schemas[name]
-        lines.append(_action(_plain_variables(schema) if plain_variables else schema, costs))
+        if plain_variables:
+            schema = rename_schema(schema, {p: f"?v{k}" for k, p in enumerate(schema.params)})
+        lines.append(_action(schema, costs))
     return "\n".join(lines) + ")\n"
 
 

@@ -17,7 +17,7 @@ from pathlib import Path
 
 from mega_sat.deadline import NO_DEADLINE, Deadline, TimeLimitReached
 from mega_sat.errors import PlannerError
-from mega_sat.model.lifted import Atom, Model, PlanStep, Schema, step_str
+from mega_sat.model.lifted import Atom, Model, PlanStep, rename_schema, step_str, unused_name
 
 VAL_RESERVED = frozenset({
     "after", "always", "always-within", "at-most-once", "duration", "hold-after", "hold-during",
@@ -133,14 +133,7 @@ def val_names(model: Model, plan: Sequence[PlanStep]) -> tuple[Model, tuple[Plan
     bad = sorted(names & VAL_RESERVED)
     if not bad:
         return model, tuple(plan)
-    ren: dict[str, str] = {}
-    for word in bad:
-        k, fresh = 0, f"{word}-v"
-        while fresh in names:
-            k += 1
-            fresh = f"{word}-v{k}"
-        names.add(fresh)
-        ren[word] = fresh
+    ren = {word: unused_name(word, names) for word in bad}
 
     def atom(a: tuple[str, ...]) -> tuple[str, ...]:
         return tuple(ren.get(x, x) for x in a)
@@ -148,19 +141,7 @@ def val_names(model: Model, plan: Sequence[PlanStep]) -> tuple[Model, tuple[Plan
     def atoms(xs: frozenset[Atom]) -> frozenset[Atom]:
         return frozenset(atom(a) for a in xs)
 
-    schemas = {
-        ren.get(n, n): Schema(
-            ren.get(n, n),
-            sc.params,
-            atoms(sc.pre),
-            atoms(sc.negpre),
-            atoms(sc.add),
-            atoms(sc.delete),
-            sc.cost if isinstance(sc.cost, int) else atom(sc.cost),
-            atoms(sc.signature),
-        )
-        for n, sc in model.schemas.items()
-    }
+    schemas = {ren.get(n, n): rename_schema(sc, ren, heads=True) for n, sc in model.schemas.items()}
     renamed = Model(
         domain_name=model.domain_name,
         problem_name=model.problem_name,
