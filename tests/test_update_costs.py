@@ -20,6 +20,7 @@ from helpers.randomtasks import two_model_tasks
 from helpers.tradeoff_tasks import tradeoff_tasks
 from hypothesis import HealthCheck, given
 from hypothesis import strategies as st
+from test_runlimits import VERIFY_ARGS
 
 from mega_sat.api import MegaSolver, load_task_dir
 from mega_sat.cli.commands import main
@@ -400,17 +401,7 @@ def test_cli_all_ones_file_gives_the_plain_frontier(tmp_path):
 def test_cli_verify_states_the_cost(tmp_path):
     f = tmp_path / "usar.costs"
     f.write_text(f"{P1P8} 4\n")
-    args = [
-        "verify",
-        "--task",
-        USAR,
-        "--plan",
-        ROOT / "docs/examples/usar-p1-explicable.plan",
-        "--explanation",
-        ROOT / "docs/examples/usar-p1-low-alpha.explanation",
-        "--update-costs",
-        f,
-    ]
+    args = [*VERIFY_ARGS, "--update-costs", f]  # the verify of docs/examples' usar-p1 pair
     res = run(*args)
     assert res.exit_code == 0, res.output
     assert "explanation cost under the update costs: cost(E) = 4, |E| = 1" in res.output
