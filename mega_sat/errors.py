@@ -29,8 +29,9 @@ EXIT_CODES: dict[int, str] = {
     EXIT_UNSOLVABLE: "the robot problem (or the model asked about) is proven unsolvable",
     EXIT_TOOL: "an external tool failed",
     EXIT_OUTPUT: "the output could not be written",
-    EXIT_TIMEOUT: "the time limit was reached before an answer could be reported (for `frontier` "
-    "and `solve`: before the first frontier point)",
+    EXIT_TIMEOUT: "the time limit was reached before an answer could be reported: no robot "
+    "optimum, MCE, plan or verification finished yet, or for `frontier` and `solve` no frontier "
+    "point found yet",
     EXIT_SIGINT: "interrupted by SIGINT (Ctrl-C)",
     EXIT_SIGTERM: "interrupted by SIGTERM",
 }

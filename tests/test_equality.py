@@ -19,7 +19,7 @@ from helpers.randomtasks import PARAMS, two_model_tasks
 from hypothesis import HealthCheck, given
 from hypothesis import strategies as st
 
-from mega_sat.api import MegaSolver
+from mega_sat.api import MegaSolver, frontier
 from mega_sat.engines.sat_loop import sat_frontier
 from mega_sat.errors import PDDLError, UnsolvableError
 from mega_sat.ground.family import GroundTask
@@ -307,3 +307,21 @@ def test_optimal_costs_agree_with_fast_downward_on_the_original_files():
             solver.family.robot_selection if model is task.robot else frozenset()
         )
         assert astar(ours).cost == fd.cost
+
+
+def test_several_human_models_of_which_one_uses_equality():
+    """Each pair gives its robot model (= o o) over all objects of every pair, so the robot
+    models agree whichever human models use equality and whatever objects they add."""
+    from mega_sat.pddl.multi_task import MultiHumanTask
+
+    robot = parse_model(HUMAN_DOMAIN, PROBLEM)  # a robot without '=' in move
+    plain = ROBOT_DOMAIN.replace("(not (= ?x ?y))", "").replace(" (not (= ?y table))", "")
+    plain = plain.replace("(not (= ?x ?to)) (not (= ?from ?to)) (not (= ?to table))", "")
+    assert "(=" not in plain
+    extra = PROBLEM.replace("(:objects a b c d)", "(:objects a b c d e)")
+    humans = [parse_model(ROBOT_DOMAIN, PROBLEM), parse_model(plain, extra)]
+    multi = MultiHumanTask.from_models(robot, humans)
+    assert all(t.robot == multi.robot for t in multi.tasks)
+    assert ("=", "e", "e") in multi.robot.init
+    assert not any(u.feature.kind == "init" and u.feature.atom[0] == "=" for u in multi.delta)
+    assert frontier(multi).exact

@@ -499,6 +499,8 @@ def test_variables_named_like_keywords_keep_their_names():
         ),
         ("domain", "(free))", "(free) (either))", "a predicate"),
         ("domain", ":action drop", ":action and", "an action"),
+        ("domain", "(domain kw)", "(domain either)", "the domain"),
+        ("problem", "(problem kw1)", "(problem object)", "the problem"),
         ("domain", "(:types thing place)", "(:types thing place oneof)", "a type"),
     ],
 )
@@ -542,3 +544,6 @@ def test_negated_equalities_in_init_are_dropped():
     bad = BASE_PROBLEM.read_text().replace("(:init", "(:init (not (= o1 o1))")
     with pytest.raises(PDDLError, match=r"'\(not \(= o1 o1\)\)' in :init contradicts equality"):
         parse_model(BASE_DOMAIN.read_text(), bad)
+    three = BASE_PROBLEM.read_text().replace("(:init", "(:init (not (= o1 o2 o1))")
+    with pytest.raises(PDDLError, match=r"'=' takes 2 arguments, got 3 in :init"):
+        parse_model(BASE_DOMAIN.read_text(), three)

@@ -109,16 +109,17 @@ def test_variables_val_reserves_are_written_by_position(tmp_path):
 
 def test_names_val_reserves_are_renamed_for_it():
     """VAL cannot read a file naming an object 'within', a predicate 'number', an action
-    'after' or a function 'duration' (legal PDDL): they are renamed in what VAL gets."""
+    'after', a function 'duration', a domain or a problem so (legal PDDL): they are renamed in
+    what VAL gets."""
     from mega_sat.api import MegaSolver, load_task_from_strings
     from mega_sat.planners.val import val_names
 
-    dom = """(define (domain d) (:requirements :strips :action-costs)
+    dom = """(define (domain within) (:requirements :strips :action-costs)
       (:predicates (number ?x) (q ?x))
       (:functions (duration ?x) - number (total-cost) - number)
       (:action after :parameters (?x) :precondition (number ?x)
         :effect (and (q ?x) (not (number ?x)) (increase (total-cost) (duration ?x)))))"""
-    prob = """(define (problem p1) (:domain d) (:objects within number-v)
+    prob = """(define (problem number) (:domain within) (:objects within number-v)
       (:init (number within) (= (duration within) 3) (= (duration number-v) 1))
       (:goal (q within)))"""
     task = load_task_from_strings(dom, prob, dom.replace("(not (number ?x))", ""), prob)
@@ -129,4 +130,5 @@ def test_names_val_reserves_are_renamed_for_it():
     assert report.ok and any(c.name.startswith("VAL") for c in report.checks), report.lines()
     model, plan = val_names(task.robot, point.plan)
     assert plan == (("after-v", "within-v"),) and "number-v1" in model.predicates
+    assert (model.domain_name, model.problem_name) == ("within-v", "number-v1")
     assert model.functions == {("duration-v", "within-v"): 3, ("duration-v", "number-v"): 1}

@@ -50,7 +50,8 @@ def _param_types(s: Schema, type_preds: frozenset[str]) -> dict[str, frozenset[s
 
 def _candidate_updates(robot: Model, reachable: frozenset[Atom]) -> list[Update]:
     """Every single-feature change the generator may draw (removals and additions)."""
-    tp = robot.type_predicates | {EQUALITY}  # equality is built in: no belief to change
+    # types and equality are left as the domain states them: the generator draws no change
+    tp = robot.type_predicates | {EQUALITY}
     cands: list[Update] = []
     # removals of robot features (type atoms excluded: those are not beliefs about the robot)
     for s in robot.schemas.values():

@@ -20,7 +20,7 @@ Atoms are plain tuples ``(predicate, arg, ...)``; lifted arguments start with ``
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field, replace
 
 Atom = tuple[str, ...]
@@ -145,18 +145,24 @@ def rename_schema(s: Schema, names: Mapping[str, str], *, heads: bool = False) -
     )
 
 
-def uses_equality(model: Model) -> bool:
+def tests_equality(schemas: Iterable[Schema]) -> bool:
+    """Whether a precondition of ``schemas`` is an equality or a negated one."""
+    return any(a[0] == EQUALITY for s in schemas for a in (*s.pre, *s.negpre))
+
+
+def has_equality(model: Model) -> bool:
+    """Whether ``model`` holds the equality predicate (some model of its task uses it)."""
     return EQUALITY in model.predicates
 
 
 def with_equality(model: Model, objects: frozenset[str]) -> Model:
-    """``model`` with the equality predicate and its atoms ``(= o o)`` for every object of
-    ``objects`` (the same set for both models of a task, so equality is never a difference)."""
-    init = frozenset(a for a in model.init if a[0] != EQUALITY)
+    """``model`` with the equality predicate and the atoms ``(= o o)`` of every object of
+    ``objects`` added (the same set for both models of a task, and for the robot model of
+    every human model, so equality is never a difference)."""
     return replace(
         model,
         predicates={**model.predicates, EQUALITY: 2},
-        init=init | {(EQUALITY, o, o) for o in objects},
+        init=model.init | {(EQUALITY, o, o) for o in objects},
     )
 
 

@@ -17,8 +17,8 @@ from mega_sat.model.lifted import (
     Model,
     Schema,
     canonical_equalities,
+    has_equality,
     rename_schema,
-    uses_equality,
     with_equality,
 )
 
@@ -100,7 +100,7 @@ class TwoModelTask:
         cls, robot: Model, human: Model, sources: dict[str, str] | None = None
     ) -> TwoModelTask:
         sources = sources or {}
-        equality = uses_equality(robot) or uses_equality(human)
+        equality = has_equality(robot) or has_equality(human)
         if equality:
             # equality is built in, not a belief: both models hold (= o o) for every object
             objects = robot.objects | human.objects

@@ -155,6 +155,7 @@ class Checker:
             raise self.fail(f"this is a {other} file, expected a {kind} file", node)
         if node.head != kind or len(node.items) != 2 or not isinstance(node.items[1], Tok):
             raise self.fail(f"expected '({kind} NAME)' after 'define'", node)
+        self.name_not_reserved(node.items[1], f"the {kind}")
         return node, node.items[1].text
 
     def sections(self, root: SList) -> Iterator[tuple[str, SList]]:

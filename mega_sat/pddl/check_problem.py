@@ -95,9 +95,15 @@ class ProblemChecker(Checker):
             if len(el.items) != 2 or not isinstance(el.items[1], SList):
                 raise self.fail("malformed 'not' in :init", el)
             sub = el.items[1]
-            if sub.head == "=" and not self.is_numeric(sub) and len(sub.items) == 3:
+            if sub.head == "=":
                 # a negated equality of objects, as some problems state: closed world and
                 # equality say it already, unless it denies that an object equals itself
+                if self.is_numeric(sub):
+                    raise self.refuse("numeric comparison '='", sub)
+                if len(sub.items) != 3:
+                    raise self.fail(
+                        f"'=' takes 2 arguments, got {len(sub.items) - 1} in :init", sub
+                    )
                 self.terms(sub.items[1:], None, objects, ":init")
                 a = sub.items[1].text
                 if a == sub.items[2].text:

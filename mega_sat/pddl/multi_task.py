@@ -21,7 +21,7 @@ from pathlib import Path
 
 from mega_sat.errors import UsageError
 from mega_sat.model.features import KIND_ORDER, Update
-from mega_sat.model.lifted import Model
+from mega_sat.model.lifted import Model, has_equality, with_equality
 from mega_sat.model.task import Selection, TwoModelTask
 from mega_sat.pddl.loading import TASK_FILES, load_task
 
@@ -63,6 +63,16 @@ class MultiHumanTask:
         tasks = tuple(_items_of(tasks, TwoModelTask, "from_tasks", "task"))
         if len(tasks) < 2:
             raise UsageError(f"several human models need at least 2 tasks, got {len(tasks)}")
+        if any(has_equality(t.robot) for t in tasks):
+            # a pair that uses equality gives its robot (= o o) over that pair's objects: every
+            # pair holds it over all objects, so that their robot models agree
+            objects = frozenset().union(*(t.robot.objects | t.human.objects for t in tasks))
+            tasks = tuple(
+                TwoModelTask.from_models(
+                    with_equality(t.robot, objects), with_equality(t.human, objects), t.sources
+                )
+                for t in tasks
+            )
         for k, t in enumerate(tasks[1:], 2):
             if t.robot != tasks[0].robot:
                 raise UsageError(

@@ -18,6 +18,7 @@ from mega_sat.model.lifted import (
     Model,
     Schema,
     rename_schema,
+    tests_equality,
     with_equality,
 )
 from mega_sat.pddl.check import DomainInfo
@@ -171,5 +172,4 @@ def to_model(domain, problem, info: DomainInfo, domain_path: str, problem_path: 
         function_arities=dict(info.functions),
         uses_costs=uses_costs,
     )
-    uses_equality = any(a[0] == EQUALITY for s in schemas.values() for a in (*s.pre, *s.negpre))
-    return with_equality(model, model.objects) if uses_equality else model
+    return with_equality(model, model.objects) if tests_equality(schemas.values()) else model

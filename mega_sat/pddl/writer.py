@@ -13,7 +13,16 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from mega_sat.model.lifted import EQUALITY, Atom, CostTerm, Model, Schema, atom_pddl, rename_schema
+from mega_sat.model.lifted import (
+    EQUALITY,
+    Atom,
+    CostTerm,
+    Model,
+    Schema,
+    atom_pddl,
+    rename_schema,
+    tests_equality,
+)
 
 
 def _writes_costs(model: Model) -> bool:
@@ -47,16 +56,13 @@ def _predicate_arities(model: Model) -> dict[str, int]:
     return out
 
 
-def _uses_equality(model: Model) -> bool:
-    return any(a[0] == EQUALITY for s in model.schemas.values() for a in (*s.pre, *s.negpre))
-
-
 def _equality_atoms(model: Model, objects: list[str]) -> list[Atom]:
     """The model's ``(= a b)`` atoms, which PDDL's equality gives for free; an ``(= a b)``
     other than the identity over the written objects cannot be written and is an error."""
     atoms = sorted(a for a in model.init if a[0] == EQUALITY)
     if any(a[0] == EQUALITY for s in model.schemas.values() for a in (*s.add, *s.delete)) or (
-        _uses_equality(model) and atoms != [(EQUALITY, o, o) for o in sorted(objects)]
+        tests_equality(model.schemas.values())
+        and atoms != [(EQUALITY, o, o) for o in sorted(objects)]
     ):
         raise ValueError("the model's '=' atoms are not PDDL's equality over its objects")
     return atoms
@@ -118,7 +124,7 @@ def domain_to_pddl(model: Model, *, plain_variables: bool = False) -> str:
     reqs = [":strips"]
     if any(s.negpre for s in model.schemas.values()):
         reqs.append(":negative-preconditions")
-    if _uses_equality(model):
+    if tests_equality(model.schemas.values()):
         reqs.append(":equality")
     if costs:
         reqs.append(":action-costs")

@@ -122,8 +122,10 @@ def val_validate(
 
 def val_names(model: Model, plan: Sequence[PlanStep]) -> tuple[Model, tuple[PlanStep, ...]]:
     """``model`` and ``plan`` with every name in :data:`VAL_RESERVED` (an object, a predicate,
-    an action, a function) renamed, so that VAL reads them; the same task otherwise."""
+    an action, a function, the domain or the problem) renamed, so that VAL reads them; the same
+    task otherwise."""
     names: set[str] = {*model.objects, *model.predicates, *model.schemas, *model.function_arities}
+    names |= {model.domain_name, model.problem_name}
     for atoms in (model.init, model.goal, model.functions):
         names.update(x for a in atoms for x in a)
     for sc in model.schemas.values():
@@ -143,8 +145,8 @@ def val_names(model: Model, plan: Sequence[PlanStep]) -> tuple[Model, tuple[Plan
 
     schemas = {ren.get(n, n): rename_schema(sc, ren, heads=True) for n, sc in model.schemas.items()}
     renamed = Model(
-        domain_name=model.domain_name,
-        problem_name=model.problem_name,
+        domain_name=ren.get(model.domain_name, model.domain_name),
+        problem_name=ren.get(model.problem_name, model.problem_name),
         predicates={ren.get(p, p): k for p, k in model.predicates.items()},
         schemas=schemas,
         objects=frozenset(ren.get(o, o) for o in model.objects),
