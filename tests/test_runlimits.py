@@ -745,7 +745,7 @@ def test_verify_json_cut_short_lists_the_checks_it_finished(monkeypatch):
     assert d["error"] == (
         "time limit 60.0s reached before the answer was complete; checked: valid in robot "
         "model: ok (cost 8); valid in human + E: ok (cost 8); not checked: optimal in human + E "
-        "(by builtin)"
+        "(by builtin)" + (" and the VAL checks" if val_available() else "")
     )
     assert _one_error_line(res.stderr) == "error: " + d["error"]
     text = run(*VERIFY_ARGS, "--checker", "builtin", "--timeout", "60")

@@ -210,7 +210,8 @@ def _check_and_write(run, solver, points, do_verify, write_model, force):
             return reports, notes
     if write_model and not points:
         # no point to write (a time limit before the first one ends the run with 124 before
-        # this): an empty folder would replace the target (with --force) and say nothing
+        # this; an interrupt there leaves the empty frontier): an empty folder would replace
+        # the target (with --force) and say nothing
         click.echo("; --write-model: no frontier point to write, nothing written", err=True)
     elif write_model:
         for path in _write_models(solver, points, write_model):

@@ -271,7 +271,13 @@ def verify_pair(
     except TimeLimitReached as e:
         # the checks done so far are finished answers (even when the backstop timer cut the
         # planner short): say them rather than nothing at all
-        raise ChecksCutShort(e, checks, f"optimal in human + E (by {kind})") from None
+        pending = f"optimal in human + E (by {kind})"
+        if use_val:
+            from mega_sat.planners.val import val_available
+
+            if val_available():
+                pending += " and the VAL checks"
+        raise ChecksCutShort(e, checks, pending) from None
     if opt.status == Status.OPTIMAL:
         good = sim_h.valid and sim_h.cost == opt.cost
         detail = f"optimum of human + E by {kind}: {opt.cost}; plan: {sim_h.cost}"
