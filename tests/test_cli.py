@@ -160,6 +160,23 @@ def test_explain_default_plan():
     assert len(d["explanation"]) == 3 and d["exact"] is True
 
 
+def test_plan_takes_the_library_default_planner(tmp_path):
+    """portfolio, or builtin when some action costs 0 (bounded horizons prove nothing there)."""
+    res = run("plan", "--task", USAR, "--json")
+    assert res.exit_code == 0 and json.loads(res.output)["planner"] == "portfolio"
+    dom = """(define (domain z) (:requirements :strips :action-costs)
+      (:predicates (at ?x) (seen ?x)) (:functions (total-cost) - number)
+      (:action go :parameters (?a ?b) :precondition (at ?a)
+        :effect (and (at ?b) (not (at ?a)) (increase (total-cost) 1)))
+      (:action look :parameters (?a) :precondition (at ?a) :effect (seen ?a)))"""
+    prob = "(define (problem z1) (:domain z) (:objects a b) (:init (at a)) (:goal (seen b)))"
+    (tmp_path / "d.pddl").write_text(dom)
+    (tmp_path / "p.pddl").write_text(prob)
+    res = run("plan", "--domain", tmp_path / "d.pddl", "--problem", tmp_path / "p.pddl", "--json")
+    d = json.loads(res.output)
+    assert res.exit_code == 0 and d["planner"] == "builtin" and d["cost"] == 1
+
+
 def test_plan_validate_apply_encode(toy, tmp_path):
     res = run("plan", "--domain", toy / "d.pddl", "--problem", toy / "p.pddl")
     assert res.exit_code == 0

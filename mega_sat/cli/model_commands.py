@@ -153,7 +153,12 @@ def _ground(task, run, verbose=False):
     default=None,
     help="Plan for human + E (with --model human).",
 )
-@click.option("--planner", type=PLANNER, default="builtin", show_default=True)
+@click.option(
+    "--planner",
+    type=PLANNER,
+    default=None,
+    help="Optimal planner.  [default: portfolio, builtin if some action costs 0]",
+)
 @click.option("--out", "out", type=click.Path(), default=None, help="Write the plan file.")
 @click.option("--force", is_flag=True, help="Overwrite --out.")
 @click.option("--json", "as_json", is_flag=True)
@@ -171,6 +176,10 @@ def plan(run, domain, problem, model, explanation, planner, out, force, as_json,
         check_target(out, force=force)  # before planning, not after
     task, sel = _single_or_family(domain, problem, kw, model, explanation)
     fam = _ground(task, run, verbose)
+    if planner is None:  # the library's default, as for the frontier's models
+        from mega_sat.engines.sat_loop import default_planner
+
+        planner = default_planner("sat", fam)
     r = NodePlanner(task, fam, planner, deadline=run.deadline, options=options).optimal(sel)
     where = problem or (
         task.sources.get("robot_problem")
