@@ -332,3 +332,27 @@ def test_generate_is_reproducible_and_its_time_budget_is_honoured(tmp_path):
     line = _single_error_line(res)
     assert "|Delta| = 3" in line and "within 0s" in line
     assert not (tmp_path / "c").exists()
+
+
+def test_a_checker_that_fails_during_verify_keeps_the_answer(monkeypatch):
+    """VAL or a planner failing inside --verify (it cannot read its file, it crashes) does not
+    take the proven answer with it: the answer is printed, the points not checked say so, and
+    the exit code is the tool's (4)."""
+    import mega_sat.planners.val as val
+    from mega_sat.errors import EXIT_TOOL, PlannerError
+
+    def broken(*args, **kwargs):
+        raise PlannerError("VAL failed (exit code 255): Problem in domain definition!")
+
+    monkeypatch.setattr(val, "val_available", lambda: True)
+    monkeypatch.setattr(val, "val_validate", broken)
+    for command in (["frontier"], ["solve", "--alpha", "1"], ["explain"]):
+        res = run(*command, "--task", USAR, "--verify")
+        assert res.exit_code == EXIT_TOOL, res.output
+        assert "exact: yes" in res.output and "Explanation >>" in res.output
+        assert (
+            "--verify could not finish: VAL could not check the plan in robot model" in res.output
+        )
+    d = json.loads(run("frontier", "--task", USAR, "--verify", "--json").stdout)
+    assert d["frontier"] and d["complete"] is False and "verify" not in d
+    assert any(n.startswith("--verify could not finish") for n in d["notes"])

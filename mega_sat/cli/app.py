@@ -43,6 +43,7 @@ from mega_sat.errors import (
     EXIT_USAGE,
     Interrupted,
     MegaSatError,
+    PlannerError,
     StdoutError,
     UsageError,
     is_pysat_interrupt,
@@ -86,6 +87,7 @@ class _Run:
         self.as_json = as_json
         self.deadline: Deadline = NO_DEADLINE
         self.stopped: BaseException | None = None  # a stop after which a partial answer follows
+        self.tool_failed: PlannerError | None = None  # a checker that failed after the answer
         self.printed = False
         self.live = None  # a LiveProgress when progress is wanted (see _command)
         self._quiet = False

@@ -26,7 +26,9 @@ from mega_sat.errors import (
     EXIT_FAILED,
     EXIT_OK,
     EXIT_TIMEOUT,
+    EXIT_TOOL,
     Interrupted,
+    PlannerError,
     UsageError,
 )
 
@@ -208,6 +210,8 @@ def _check_and_write(run, solver, points, do_verify, write_model, force):
                 + ("; --write-model skipped" if write_model else "")
             )
             return reports, notes
+        except PlannerError as e:
+            notes.append(_tool_failed(run, e, f"{len(reports)} of {len(points)} point(s) checked"))
     if write_model and not points:
         # no point to write (a time limit before the first one ends the run with 124 before
         # this; an interrupt there leaves the empty frontier): an empty folder would replace
@@ -239,6 +243,14 @@ def _plot(run, fr, target, force, title) -> list[str]:
     return []
 
 
+def _tool_failed(run, e: PlannerError, checked: str) -> str:
+    """The note of a ``--verify`` whose planner or VAL failed (it could not read what it was
+    given, it crashed): the answer is proven without it and is printed, the exit code is the
+    tool's (4)."""
+    run.tool_failed = e
+    return f"--verify could not finish: {e} ({checked})"
+
+
 def _with_notes(d: dict, notes: list[str]) -> dict:
     """A result's JSON object with the run's own notes (a stop after the answer was found):
     ``complete`` false, ``exact`` as proven (the answer itself is finished)."""
@@ -254,7 +266,7 @@ def _finish(run, fr, reports, verbose) -> int:
         click.echo(f"; stats {json.dumps(fr.stats)}", err=True)
     if reports and not all(r.ok for r in reports):
         return run.exit_code(EXIT_FAILED)
-    return run.exit_code(EXIT_OK)
+    return run.exit_code(EXIT_TOOL if run.tool_failed else EXIT_OK)
 
 
 def _status_line(fr) -> str:
@@ -484,6 +496,8 @@ def explain(
             run.quiet()
             run.stopped = stop
             notes.append(f"{getattr(stop, 'headline', stop)} during --verify: not checked")
+        except PlannerError as e:
+            notes.append(_tool_failed(run, e, "not checked"))
     if as_json:
         d = ex.to_dict()
         if rep:
@@ -512,7 +526,9 @@ def explain(
             for line in rep.lines():
                 run.echo("  " + line)
     _stop_message(run)
-    return run.exit_code(EXIT_FAILED if rep and not rep.ok else EXIT_OK)
+    if rep and not rep.ok:
+        return run.exit_code(EXIT_FAILED)
+    return run.exit_code(EXIT_TOOL if run.tool_failed else EXIT_OK)
 
 
 @main.command()
