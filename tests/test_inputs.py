@@ -151,3 +151,55 @@ def test_every_command_reports_the_grounding_sizes_with_v(args, tmp_path):
     sizes = [line for line in r.stderr.splitlines() if line.startswith("; |Delta| = 3; grounded")]
     assert len(sizes) == 1, r.stderr
     assert "39 atoms, 23 ground actions, 3 updates in " in sizes[0]
+
+
+def test_explanation_lines_in_any_case_and_spacing():
+    """Update names are lower case with single spaces; a hand-typed line with capitals, tabs or
+    doubled spaces names the same update, in one human model or several."""
+    from mega_sat.pddl.multi_task import MultiHumanTask
+
+    task = _usar()
+    name = task.delta[0].name
+    typed = "  " + name.upper().replace(" ", " \t ") + "  "
+    assert task.selection_from_names([typed, "Explanation >>  " + name]) == frozenset({0})
+    multi = MultiHumanTask.from_tasks([task, task])
+    assert multi.selection_from_names([typed]) == frozenset({multi.update_index[name]})
+
+
+def test_a_plan_file_with_a_byte_order_mark(tmp_path):
+    from mega_sat.pddl.planio import read_plan
+
+    plan = tmp_path / "bom.plan"
+    plan.write_bytes(b"\xef\xbb\xbf(MOVE p1 p2)\r\n(take_picture p2)\r\n")
+    assert read_plan(plan) == (("move", "p1", "p2"), ("take_picture", "p2"))
+
+
+def test_the_robot_problem_read_as_the_human_problem_says_so(tmp_path):
+    """Without a human problem the robot's is read with the human domain; an error there names
+    the robot problem's file, which was just read without fault for the robot."""
+    human = tmp_path / "human-domain.pddl"
+    human.write_text(FILES[2].read_text().replace("clearable", "debris"))
+    with pytest.raises(MegaSatError) as info:
+        load_task(FILES[0], FILES[1], human)
+    msg = str(info.value)
+    assert msg.startswith(f"{FILES[1]}: line ") and "undefined predicate 'clearable'" in msg
+    assert msg.endswith(f"(read as the human problem, with {human}: give the human's own "
+                        "problem if it differs)")  # fmt: skip
+    with pytest.raises(MegaSatError) as info:
+        load_task(FILES[0], FILES[1], human, FILES[1])  # given twice: the same reading
+    assert "read as the human problem" in str(info.value)
+
+
+def test_verify_says_a_plan_that_does_not_run_in_human_e_is_not_executable():
+    from mega_sat.api import MegaSolver
+
+    robot = """(define (domain d) (:predicates (p ?x) (q ?x) (r ?x))
+      (:action a :parameters (?x) :precondition (p ?x) :effect (q ?x)))"""
+    human = """(define (domain d) (:predicates (p ?x) (q ?x) (r ?x))
+      (:action a :parameters (?x) :precondition (and (p ?x) (r ?x)) :effect (q ?x))
+      (:action b :parameters (?x) :precondition (p ?x) :effect (q ?x)))"""
+    prob = "(define (problem p1) (:domain d) (:objects o) (:init (p o)) (:goal (q o)))"
+    solver = MegaSolver(load_task_from_strings(robot, prob, human, prob))
+    report = solver.verify(explanation=[], plan=[("a", "o")], use_val=False)
+    optimal = [c for c in report.checks if c.name == "optimal in human + E"]
+    assert not report.ok and optimal[0].detail.endswith("; plan: not executable")

@@ -434,3 +434,10 @@ def test_update_costs_built_in_code_are_checked():
             api.MegaSolver(task, update_costs=UpdateCosts(costs))
     ok = api.MegaSolver(task, update_costs=UpdateCosts(((name, 2),), (None, None)))
     assert ok.update_costs[0] == 2
+
+
+def test_update_names_in_a_costs_file_in_any_case_and_spacing():
+    from mega_sat.pddl.update_costs import parse_update_costs
+
+    text = "\ufeffExplanation >> ADD-Has-Initial-State-clear_path  P6\tp7 4\n"
+    assert parse_update_costs(text).costs == (("add-has-initial-state-clear_path p6 p7", 4),)

@@ -280,7 +280,8 @@ def verify_pair(
         raise ChecksCutShort(e, checks, pending) from None
     if opt.status == Status.OPTIMAL:
         good = sim_h.valid and sim_h.cost == opt.cost
-        detail = f"optimum of human + E by {kind}: {opt.cost}; plan: {sim_h.cost}"
+        plan_cost = sim_h.cost if sim_h.valid else "not executable"
+        detail = f"optimum of human + E by {kind}: {opt.cost}; plan: {plan_cost}"
         if not opt.exact:
             good, detail = False, detail + f" (not proven: {opt.reason})"
         checks.append(Check("optimal in human + E", good, detail))

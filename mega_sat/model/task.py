@@ -26,6 +26,16 @@ Selection = frozenset[int]
 """A subset E of Delta, as indices into ``TwoModelTask.delta``."""
 
 
+def explanation_line(raw: str) -> str:
+    """The update name on one line of an explanation ('' for none): without a byte-order mark,
+    the ``Explanation >>`` prefix of printed answers, or a comment line (``;``, ``#``), in
+    lower case with single spaces, as update names are written."""
+    line = " ".join(raw.replace("\ufeff", "").split())
+    if line.startswith("Explanation >>"):
+        line = line[len("Explanation >>") :].strip()
+    return "" if line.startswith((";", "#")) else line.lower()
+
+
 def align_human(
     robot: Model,
     human: Model,
@@ -53,7 +63,8 @@ def align_human(
         else:
             side = human_problem_name or human_name.replace("domain", "problem")
         raise ModelMismatchError(
-            f"cost function value ({' '.join(term)}) is defined only in {side}"
+            f"cost function value ({' '.join(term)}) is defined only in {side} (both problems "
+            "give a value to the same terms; the values may differ)"
         )
     schemas: dict[str, Schema] = {}
     for name, hs in human.schemas.items():
@@ -147,10 +158,8 @@ class TwoModelTask:
                     path=path,
                     where=f"line {lineno}",
                 )
-            line = raw.replace("\ufeff", "").strip()
-            if line.startswith("Explanation >>"):
-                line = line[len("Explanation >>") :].strip()
-            if not line or line.startswith(";") or line.startswith("#"):
+            line = explanation_line(raw)
+            if not line:
                 continue
             if line not in self.update_index:
                 shown = line if line.isprintable() else ascii(line)

@@ -9,7 +9,7 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from mega_sat.errors import UsageError
+from mega_sat.errors import PDDLError, UsageError
 from mega_sat.model.task import TwoModelTask
 from mega_sat.pddl.reader import parse_model, read_text
 
@@ -107,12 +107,24 @@ def task_from_texts(texts: dict[str, str], names: dict[str, str]) -> TwoModelTas
         domain_path=names["robot_domain"],
         problem_path=names["robot_problem"],
     )
-    human = parse_model(
-        texts["human_domain"],
-        texts["human_problem"],
-        domain_path=names["human_domain"],
-        problem_path=names["human_problem"],
-    )
+    try:
+        human = parse_model(
+            texts["human_domain"],
+            texts["human_problem"],
+            domain_path=names["human_domain"],
+            problem_path=names["human_problem"],
+        )
+    except PDDLError as e:
+        if e.path != names["human_problem"] or names["human_problem"] != names["robot_problem"]:
+            raise
+        # the robot problem read as the human's (no human problem given): say so, since the
+        # same file was just read without fault as the robot's
+        raise PDDLError(
+            f"{e.message} (read as the human problem, with {names['human_domain']}: give "
+            "the human's own problem if it differs)",
+            path=e.path,
+            where=e.where,
+        ) from None
     return TwoModelTask.from_models(robot, human, sources=dict(names))
 
 

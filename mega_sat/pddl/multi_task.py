@@ -22,7 +22,7 @@ from pathlib import Path
 from mega_sat.errors import UsageError
 from mega_sat.model.features import KIND_ORDER, Update
 from mega_sat.model.lifted import Model, has_equality, with_equality
-from mega_sat.model.task import Selection, TwoModelTask
+from mega_sat.model.task import Selection, TwoModelTask, explanation_line
 from mega_sat.pddl.loading import TASK_FILES, load_task
 
 HUMAN_DIR = re.compile(r"human-(\d+)")
@@ -169,10 +169,8 @@ class MultiHumanTask:
             names = names.splitlines()
         out = set()
         for lineno, raw in enumerate(names, 1):
-            line = str(raw).strip()
-            if line.startswith("Explanation >>"):
-                line = line[len("Explanation >>") :].strip()
-            if not line or line.startswith((";", "#")):
+            line = explanation_line(str(raw))
+            if not line:
                 continue
             if line not in self.update_index:
                 raise UsageError(

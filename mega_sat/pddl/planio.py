@@ -27,6 +27,7 @@ _STEP_RE = re.compile(
 def parse_plan(text: str, *, path: str = "<plan>") -> tuple[PlanStep, ...]:
     """Parse a plan; a malformed line is a :class:`PDDLError` with path and line number."""
     steps: list[PlanStep] = []
+    text = text.removeprefix("\ufeff")  # a byte-order mark, as editors on Windows write it
     for lineno, raw in enumerate(text.splitlines(), 1):
         line = raw.split(";", 1)[0].strip()
         if not line:

@@ -66,7 +66,7 @@ def parse_update_costs(text: str, source: str | None = None) -> UpdateCosts:
                 path=source,
                 where=where,
             )
-        name = " ".join(tokens[:-1])
+        name = " ".join(tokens[:-1]).lower()  # update names are lower case, as PDDL reads
         cost = _check_cost(tokens[-1], name, source, where)
         if name in seen:
             raise UpdateCostError(
