@@ -203,3 +203,24 @@ def test_verify_says_a_plan_that_does_not_run_in_human_e_is_not_executable():
     report = solver.verify(explanation=[], plan=[("a", "o")], use_val=False)
     optimal = [c for c in report.checks if c.name == "optimal in human + E"]
     assert not report.ok and optimal[0].detail.endswith("; plan: not executable")
+
+
+def test_parameters_listed_in_another_order_give_a_warning():
+    robot = """(define (domain dl) (:requirements :strips :typing) (:types pkg place)
+      (:predicates (at ?p - pkg ?l - place) (holding ?p - pkg))
+      (:action drop :parameters (?p - pkg ?l - place) :precondition (holding ?p)
+        :effect (and (at ?p ?l) (not (holding ?p)))))"""
+    human = robot.replace("(?p - pkg ?l - place)", "(?l - place ?p - pkg)")
+    prob = """(define (problem p) (:domain dl) (:objects b - pkg r - place)
+      (:init (holding b)) (:goal (at b r)))"""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        task = load_task_from_strings(robot, prob, human)
+        load_task_from_strings(robot, prob, robot)  # the same order: no warning
+    msgs = [str(w.message) for w in caught if issubclass(w.category, PDDLWarning)]
+    assert msgs == [
+        "human domain: action 'drop' has parameters of the types (place pkg) where robot "
+        "domain has (pkg place): parameters are matched by position, so their types and the "
+        "atoms that use them differ"
+    ]
+    assert len(task.delta) == 10  # 2 x (types of 2, holding, the add and the delete)

@@ -10,8 +10,9 @@ import re
 from pathlib import Path
 
 from mega_sat.errors import PDDLError, UsageError
+from mega_sat.model.lifted import Model
 from mega_sat.model.task import TwoModelTask
-from mega_sat.pddl.reader import parse_model, read_text
+from mega_sat.pddl.reader import PDDLWarning, parse_model, read_text
 
 TASK_FILES = {
     "robot_domain": "robot-domain.pddl",
@@ -125,7 +126,28 @@ def task_from_texts(texts: dict[str, str], names: dict[str, str]) -> TwoModelTas
             path=e.path,
             where=e.where,
         ) from None
+    _warn_permuted_parameters(robot, human, names)
     return TwoModelTask.from_models(robot, human, sources=dict(names))
+
+
+def _warn_permuted_parameters(robot: Model, human: Model, names: dict[str, str]) -> None:
+    """A warning for a shared action whose parameter types the human's domain lists in another
+    order: parameters are matched by position, so the types and every atom that mentions them
+    become differences, which is rarely what the author meant."""
+    import warnings
+
+    for name in sorted(set(robot.schemas) & set(human.schemas)):
+        rt, ht = robot.schemas[name].param_types(), human.schemas[name].param_types()
+        if len(rt) == len(ht) and rt != ht and sorted(rt) == sorted(ht):
+            warnings.warn(
+                PDDLWarning(
+                    f"{names['human_domain']}: action '{name}' has parameters of the types "
+                    f"({' '.join(t or 'object' for t in ht)}) where {names['robot_domain']} has "
+                    f"({' '.join(t or 'object' for t in rt)}): parameters are matched by "
+                    "position, so their types and the atoms that use them differ"
+                ),
+                stacklevel=2,
+            )
 
 
 def load_task_dir(d: str | Path) -> TwoModelTask:
