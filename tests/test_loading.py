@@ -49,6 +49,7 @@ def test_mismatched_arity_names_both_files():
     with pytest.raises(ModelMismatchError) as info:
         load_task(**paths)
     msg = str(info.value)
+    assert msg.startswith(f"{ARITY / 'human-domain.pddl'}: line 3: ")  # where it is declared
     assert "predicate 'at' has 2 argument(s)" in msg and "but 1" in msg
     assert str(ARITY / "robot-domain.pddl") in msg and str(ARITY / "human-domain.pddl") in msg
 
@@ -85,6 +86,29 @@ def test_load_task_from_strings_mismatch_names_models():
     with pytest.raises(ModelMismatchError) as info:
         load_task_from_strings(*texts)
     assert "in robot domain but 1 in human domain" in str(info.value)
+    assert str(info.value).startswith("human domain: line 3: ")
+
+
+def test_mismatches_name_the_line_of_their_cause():
+    dom = """(define (domain d) (:requirements :strips :action-costs)
+      (:predicates (at ?x)) (:functions (len ?x) - number (total-cost) - number)
+      (:action go :parameters (?x ?y) :precondition (at ?x)
+        :effect (and (at ?y) (not (at ?x)) (increase (total-cost) (len ?y)))))"""
+    prob = """(define (problem p) (:domain d) (:objects a b)
+      (:init (at a)
+             (= (len a) 1) (= (len b) 2))
+      (:goal (at b)))"""
+    short = prob.replace(" (= (len b) 2)", "")
+    with pytest.raises(ModelMismatchError) as info:
+        load_task_from_strings(dom, prob, dom, short)
+    assert str(info.value).startswith("robot problem: line 3: cost function value (len b)")
+    with pytest.raises(ModelMismatchError) as info:
+        load_task_from_strings(dom, short, dom, prob)
+    assert str(info.value).startswith("human problem: line 3: cost function value (len b)")
+    three = dom.replace("(?x ?y) :precondition", "(?x ?y ?z) :precondition")
+    with pytest.raises(ModelMismatchError) as info:
+        load_task_from_strings(dom, prob, three, prob)
+    assert str(info.value).startswith("human domain: line 3: action 'go' has 2 parameter(s)")
 
 
 def _copy(src: Path, dst: Path) -> None:

@@ -9,7 +9,7 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from mega_sat.errors import PDDLError, UsageError
+from mega_sat.errors import ModelMismatchError, PDDLError, UsageError
 from mega_sat.model.lifted import Model
 from mega_sat.model.task import TwoModelTask
 from mega_sat.pddl.reader import PDDLWarning, parse_model, read_text
@@ -127,7 +127,34 @@ def task_from_texts(texts: dict[str, str], names: dict[str, str]) -> TwoModelTas
             where=e.where,
         ) from None
     _warn_permuted_parameters(robot, human, names)
-    return TwoModelTask.from_models(robot, human, sources=dict(names))
+    try:
+        return TwoModelTask.from_models(robot, human, sources=dict(names))
+    except ModelMismatchError as e:
+        role, kind, key = getattr(e, "anchor", (None, None, ()))
+        line = _line_of(texts.get(role, ""), kind, key) if role else None
+        if line is None:
+            raise
+        raise ModelMismatchError(e.message, path=names[role], where=f"line {line}") from None
+
+
+def _line_of(text: str, kind: str, key: tuple[str, ...]) -> int | None:
+    """The line where ``text`` (PDDL) declares the action or predicate ``key`` or gives the
+    cost function value ``key`` (``kind``: action, predicate or value); None if not found."""
+    import re
+
+    from mega_sat.pddl.sexpr import normalise_text
+
+    text = normalise_text(text)
+    start = 0
+    if kind == "action":
+        pattern = r"\(\s*:action\s+" + re.escape(key[0]) + r"(?=[\s()])"
+    elif kind == "predicate":
+        start = max(text.find(":predicates"), 0)
+        pattern = r"\(\s*" + re.escape(key[0]) + r"(?=[\s()])"
+    else:
+        pattern = r"\(\s*=\s*\(\s*" + r"\s+".join(map(re.escape, key)) + r"\s*\)"
+    m = re.compile(pattern).search(text, start)
+    return None if m is None else text.count("\n", 0, m.start()) + 1
 
 
 def _warn_permuted_parameters(robot: Model, human: Model, names: dict[str, str]) -> None:
