@@ -110,7 +110,22 @@ class PDDLError(MegaSatError):
 
 
 class ModelMismatchError(MegaSatError):
-    """Robot and human models that cannot form one model family (e.g. different arities)."""
+    """Robot and human models that cannot form one model family (e.g. different arities).
+
+    ``anchor`` says where the cause is written, for a reader of the files to give its line:
+    the file's role (``human_domain``, ...), what it is (``action``, ``predicate`` or
+    ``value``) and its name or term."""
+
+    def __init__(
+        self,
+        message: str,
+        *,
+        path: str | None = None,
+        where: str | None = None,
+        anchor: tuple[str, str, tuple[str, ...]] | None = None,
+    ):
+        super().__init__(message, path=path, where=where)
+        self.anchor = anchor
 
 
 class UnsolvableError(MegaSatError):

@@ -36,14 +36,6 @@ def explanation_line(raw: str) -> str:
     return "" if line.startswith((";", "#")) else line.lower()
 
 
-def _mismatch(message: str, role: str, kind: str, key: tuple[str, ...]) -> ModelMismatchError:
-    """The error, with where its cause is written (``anchor``: the file's role, ``action``,
-    ``predicate`` or ``value``, and the name or term) so that a reader can give the line."""
-    e = ModelMismatchError(message)
-    e.anchor = (role, kind, key)
-    return e
-
-
 def align_human(
     robot: Model,
     human: Model,
@@ -61,12 +53,10 @@ def align_human(
     """
     for p, n in human.predicates.items():
         if p in robot.predicates and robot.predicates[p] != n:
-            raise _mismatch(
+            raise ModelMismatchError(
                 f"predicate '{p}' has {robot.predicates[p]} argument(s) in {robot_name} "
                 f"but {n} in {human_name}",
-                "human_domain",
-                "predicate",
-                (p,),
+                anchor=("human_domain", "predicate", (p,)),
             )
     for term in set(robot.functions) ^ set(human.functions):
         if term in robot.functions:
@@ -79,12 +69,10 @@ def align_human(
                 "human_problem",
                 human_problem_name or human_name.replace("domain", "problem"),
             )
-        raise _mismatch(
+        raise ModelMismatchError(
             f"cost function value ({' '.join(term)}) is defined only in {side} (both problems "
             "give a value to the same terms; the values may differ)",
-            role,
-            "value",
-            term,
+            anchor=(role, "value", term),
         )
     schemas: dict[str, Schema] = {}
     for name, hs in human.schemas.items():
@@ -93,12 +81,10 @@ def align_human(
             schemas[name] = hs
             continue
         if len(rs.params) != len(hs.params):
-            raise _mismatch(
+            raise ModelMismatchError(
                 f"action '{name}' has {len(rs.params)} parameter(s) in {robot_name} but "
                 f"{len(hs.params)} in {human_name}",
-                "human_domain",
-                "action",
-                (name,),
+                anchor=("human_domain", "action", (name,)),
             )
         # by position: the human's parameters take the robot's names
         schemas[name] = rename_schema(hs, dict(zip(hs.params, rs.params, strict=True)))

@@ -130,7 +130,7 @@ def task_from_texts(texts: dict[str, str], names: dict[str, str]) -> TwoModelTas
     try:
         return TwoModelTask.from_models(robot, human, sources=dict(names))
     except ModelMismatchError as e:
-        role, kind, key = getattr(e, "anchor", (None, None, ()))
+        role, kind, key = e.anchor or (None, None, ())
         line = _line_of(texts.get(role, ""), kind, key) if role else None
         if line is None:
             raise
@@ -140,8 +140,6 @@ def task_from_texts(texts: dict[str, str], names: dict[str, str]) -> TwoModelTas
 def _line_of(text: str, kind: str, key: tuple[str, ...]) -> int | None:
     """The line where ``text`` (PDDL) declares the action or predicate ``key`` or gives the
     cost function value ``key`` (``kind``: action, predicate or value); None if not found."""
-    import re
-
     from mega_sat.pddl.sexpr import normalise_text
 
     text = normalise_text(text)

@@ -22,6 +22,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from mega_sat.errors import UsageError
+from mega_sat.model.task import explanation_line
 
 MAX_COST = 10**9
 """Costs above this are refused: the CBC hitting-set back end works in floating point, and a
@@ -54,9 +55,7 @@ def parse_update_costs(text: str, source: str | None = None) -> UpdateCosts:
     seen: dict[str, int] = {}
     for lineno, raw in enumerate(text.splitlines(), 1):
         where = f"line {lineno}"
-        line = re.split(r"[#;]", raw.replace("\ufeff", ""), maxsplit=1)[0].strip()
-        if line.startswith("Explanation >>"):
-            line = line[len("Explanation >>") :].strip()
+        line = explanation_line(re.split(r"[#;]", raw, maxsplit=1)[0])  # then the cost
         if not line:
             continue
         tokens = line.split()
@@ -66,7 +65,7 @@ def parse_update_costs(text: str, source: str | None = None) -> UpdateCosts:
                 path=source,
                 where=where,
             )
-        name = " ".join(tokens[:-1]).lower()  # update names are lower case, as PDDL reads
+        name = " ".join(tokens[:-1])
         cost = _check_cost(tokens[-1], name, source, where)
         if name in seen:
             raise UpdateCostError(
