@@ -8,7 +8,7 @@ subsets of ``delta`` (as frozensets of indices into it): ``frozenset()`` is the 
 from __future__ import annotations
 
 from collections.abc import Iterable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 
 from mega_sat.errors import ModelMismatchError, UsageError
@@ -47,10 +47,24 @@ def align_human(
 ) -> Model:
     """Rename the human's schema parameters to the robot's, matching them by position.
 
+    A cost function the human's domain does not declare (a human model written without the
+    robot's costs) takes the robot problem's values: the human holds no values of it to differ
+    from, and a cost update that brings its term to the human needs them.
+
     Raises :class:`ModelMismatchError` on a schema or predicate of different arity.  The
     ``*_name`` arguments name the files in messages (problem names default to the domain
     names with 'domain' replaced by 'problem').
     """
+    unknown = {f: n for f, n in robot.function_arities.items() if f not in human.function_arities}
+    if unknown:
+        human = replace(
+            human,
+            functions={
+                **human.functions,
+                **{t: v for t, v in robot.functions.items() if t[0] in unknown},
+            },
+            function_arities={**human.function_arities, **unknown},
+        )
     for p, n in human.predicates.items():
         if p in robot.predicates and robot.predicates[p] != n:
             raise ModelMismatchError(

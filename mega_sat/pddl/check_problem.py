@@ -20,7 +20,17 @@ class PDDLWarning(UserWarning):
 
 
 class ProblemChecker(Checker):
-    """The checks of a problem file, against what the domain check found."""
+    """The checks of a problem file, against what the domain check found.
+
+    ``borrowed``: the file is another model's problem read with this domain (the robot's
+    problem as the human's when no human problem is given).  Values of cost functions this
+    domain does not declare, and a metric it cannot state, belong to the other model's costs
+    and are left out instead of refused.
+    """
+
+    def __init__(self, path: str, *, borrowed: bool = False):
+        super().__init__(path)
+        self.borrowed = borrowed
 
     def problem(self, root: SList, info: DomainInfo) -> list[SList]:
         """Check a problem against ``info``; return the forms a repaired text leaves out: its
@@ -74,7 +84,10 @@ class ProblemChecker(Checker):
                     raise self.fail("expected one condition in :goal", node)
                 self.goal(node.items[1], info, objects)
             elif key == ":metric":
-                self.metric(node, info)
+                if self.borrowed and not info.uses_total_cost:
+                    drop.append(node)
+                else:
+                    self.metric(node, info)
             elif key == ":constraints":
                 raise self.refuse(REFUSED_SECTIONS[key], node)
             else:
@@ -90,7 +103,7 @@ class ProblemChecker(Checker):
         if not isinstance(el, SList):
             raise self.fail(f"expected an atom in :init, got {show(el)}", el)
         if el.head == "=":
-            self.function_value(el, info, objects)
+            return self.function_value(el, info, objects)
         elif el.head == "not":
             if len(el.items) != 2 or not isinstance(el.items[1], SList):
                 raise self.fail("malformed 'not' in :init", el)
@@ -122,7 +135,8 @@ class ProblemChecker(Checker):
             self.atom(el, info, None, objects, ":init")
         return False
 
-    def function_value(self, el: SList, info: DomainInfo, objects: dict[str, str]) -> None:
+    def function_value(self, el: SList, info: DomainInfo, objects: dict[str, str]) -> bool:
+        """Check one ``(= (f ...) v)`` of :init; True for one to leave out (``borrowed``)."""
         if len(el.items) != 3 or not isinstance(el.items[1], SList):
             raise self.refuse("equality '(= ...)' in :init", el)
         term, value = el.items[1], el.items[2]
@@ -131,9 +145,13 @@ class ProblemChecker(Checker):
         f = term.head
         if f == "total-cost":
             if not info.uses_total_cost:
+                if self.borrowed:
+                    return True
                 raise self.fail("(total-cost) is not declared in the domain's :functions", el)
-            return
+            return False
         if f is None or f not in info.functions:
+            if self.borrowed and f is not None:
+                return True
             raise self.fail(f"undefined function '{f}' in :init", el)
         if len(term.items) - 1 != info.functions[f]:
             raise self.fail(
@@ -152,6 +170,7 @@ class ProblemChecker(Checker):
         if old != number:  # which one counts would be a guess
             shown = f"({' '.join(key)})"
             raise self.fail(f"{shown} is given two values ({old} and {value.text})", el)
+        return False
 
     def goal(self, node: Node, info: DomainInfo, objects: dict[str, str]) -> None:
         if isinstance(node, SList) and node.head == "and":

@@ -114,6 +114,7 @@ def task_from_texts(texts: dict[str, str], names: dict[str, str]) -> TwoModelTas
             texts["human_problem"],
             domain_path=names["human_domain"],
             problem_path=names["human_problem"],
+            borrowed_problem=texts["human_problem"] == texts["robot_problem"],
         )
     except PDDLError as e:
         if e.path != names["human_problem"] or names["human_problem"] != names["robot_problem"]:

@@ -69,8 +69,12 @@ def parse_model(
     *,
     domain_path: str = "<domain>",
     problem_path: str = "<problem>",
+    borrowed_problem: bool = False,
 ) -> Model:
     """Parse a domain and a problem into a normalised :class:`Model`.
+
+    ``borrowed_problem``: the problem is another model's (the robot's, read as the human's);
+    cost-function values and a metric this domain does not declare are left out.
 
     Raises :class:`PDDLError` (file, line, construct) for malformed or unsupported PDDL.
     """
@@ -78,9 +82,11 @@ def parse_model(
     ptext = normalise_text(problem_text)
     dtree, ptree = _try_parse(dtext, "domain"), _try_parse(ptext, "problem")
     info = Checker(domain_path).domain(_sexpr(dtext, dtree, domain_path))
-    drop = ProblemChecker(problem_path).problem(_sexpr(ptext, ptree, problem_path), info)
+    checker = ProblemChecker(problem_path, borrowed=borrowed_problem)
+    drop = checker.problem(_sexpr(ptext, ptree, problem_path), info)
     parsed = None
-    if dtree is not None and ptree is not None:
+    # what a borrowed problem leaves out must not reach the library's reading
+    if dtree is not None and ptree is not None and not (borrowed_problem and drop):
         try:
             parsed = transform(dtree, "domain"), transform(ptree, "problem")
         except Exception:  # the repaired parse below words it as the library states it
