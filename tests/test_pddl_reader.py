@@ -515,9 +515,9 @@ def test_keywords_as_names_of_objects_and_schemas_are_refused(where, old, new, w
         parse_model(dom, prob)
 
 
-def test_header_sections_in_any_order_after_the_types():
-    """Fast Downward reads :constants after :predicates (the BNF's order is not kept by hand
-    written domains); a section given twice, or :types after the others, is one clear error."""
+def test_header_sections_in_any_order():
+    """Fast Downward reads :constants after :predicates and :types after both (the BNF's
+    order is not kept by hand written domains); a section given twice is one clear error."""
     dom = """(define (domain d) (:requirements :strips :action-costs) (:types t)
       (:functions (c ?x - t) - number (total-cost) - number)
       (:predicates (p ?x - t))
@@ -532,9 +532,18 @@ def test_header_sections_in_any_order_after_the_types():
     twice = dom.replace("(:constants k - t)", "(:constants k - t)\n      (:predicates (q))")
     with pytest.raises(PDDLError, match=r"^d\.pddl: line 5: a second ':predicates' section$"):
         parse_model(twice, prob, domain_path="d.pddl")
-    late = dom.replace(" (:types t)", "").replace("(:constants k - t)", "(:types t)")
-    with pytest.raises(PDDLError, match=r"line 4: ':types' must come before ':constants'"):
-        parse_model(late, prob)
+    # the types last, with a hierarchy, a comment and a line break: the same model
+    late = dom.replace(" (:types t)", "").replace(
+        "(:constants k - t)", "(:constants k - t)\n      (:types u - object\n t - u) ; last"
+    )
+    moved = parse_model(late, prob)
+    assert moved.schemas == m.schemas and moved.init == m.init | {("u", "o"), ("u", "k")}
+    again = late.replace("(p k)", "(p j)")  # an error after the moved section: its own line
+    with pytest.raises(PDDLError, match=r"^d\.pddl: line 8: .*'j'"):
+        parse_model(again, prob, domain_path="d.pddl")
+    with pytest.raises(PDDLError, match=r"^d\.pddl: line 6: a second ':types' section$"):
+        parse_model(late.replace("(:types u", "(:types v)\n      (:types u"), prob,
+                    domain_path="d.pddl")  # fmt: skip
 
 
 def test_negated_equalities_in_init_are_dropped():

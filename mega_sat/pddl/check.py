@@ -310,16 +310,19 @@ class Checker:
         actions: list[SList] = []
         flag_sections: list[SList] = []
         once: set[str] = set()
-        for key, node in self.sections(root):
+        sections = list(self.sections(root))
+        # the types first, wherever they stand (Fast Downward reads them anywhere): constants,
+        # predicates and functions are checked against them
+        sections.sort(key=lambda section: section[0] != ":types")
+        first_header: SList | None = None
+        for key, node in sections:
             if key in (":types", ":constants", ":predicates", ":functions"):
                 if key in once:
                     raise self.fail(f"a second '{key}' section", node)
                 once.add(key)
-                if key == ":types" and once - {":types"}:
-                    raise self.fail(
-                        "':types' must come before ':constants', ':predicates' and ':functions'",
-                        node,
-                    )
+                if key != ":types" and (first_header is None or node.start < first_header.start):
+                    first_header = node
+        for key, node in sections:
             if len(node.items) == 1 and key in (
                 ":types",
                 ":constants",
@@ -332,7 +335,9 @@ class Checker:
                 info.requirements |= self.requirements(node)
                 flag_sections.append(node)
             elif key == ":types":
-                self.types(node, info)
+                # the library's grammar wants them before the other header sections: moved there
+                ahead = first_header is not None and first_header.start < node.start
+                self.types(node, info, move_to=first_header.start if ahead else None)
             elif key == ":constants":
                 for tok, typ in self.typed_list(node.items[1:], ":constants"):
                     self.name_not_reserved(tok, "a constant")
@@ -360,7 +365,9 @@ class Checker:
             seen.add(name)
         return info
 
-    def types(self, node: SList, info: DomainInfo) -> None:
+    def types(self, node: SList, info: DomainInfo, *, move_to: int | None = None) -> None:
+        """Check ``:types``; ``move_to``: the text position the section moves to (on one line,
+        so that line numbers stay)."""
         declared: set[str] = set()
         rewrite = False  # 'object' or a type declared again: valid, the library refuses both
         for tok, parent in self.typed_list(node.items[1:], ":types"):
@@ -390,11 +397,14 @@ class Checker:
                     raise self.fail(f"cycle in the type hierarchy through '{t}'", node)
                 seen.add(cur)
                 cur = info.types.get(cur, "object")
-        if rewrite:  # the same hierarchy, each type once, the untyped ones last
+        if rewrite or move_to is not None:  # the same hierarchy, each type once, untyped last
             own = [f"{t} - {p}" for t, p in info.types.items() if p != "object"]
             own += [t for t, p in info.types.items() if p == "object"]
             text = f"(:types {' '.join(own)})" if own else ""
-            info.edits.append((node.start, node.end, text))
+            if move_to is None:
+                info.edits.append((node.start, node.end, text))
+            else:
+                info.edits += [(node.start, node.end, ""), (move_to, move_to, text + " ")]
 
     def predicates(self, node: SList, info: DomainInfo) -> None:
         declared = node.items[1:]
