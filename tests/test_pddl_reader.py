@@ -253,7 +253,7 @@ def test_unsupported_domain_constructs(name, construct, line):
 @pytest.mark.parametrize(
     ("name", "construct", "line"),
     [
-        ("negative-goal", "negative goal 'not'", 7),
+        ("negated-equality-goal", "equality '(= ...)' in the goal", 7),
         ("or-goal", "non-conjunctive goal (disjunction 'or')", 6),
         ("metric", "metric other than 'minimize (total-cost)'", 7),
         ("timed-literal", "timed initial literal", 6),

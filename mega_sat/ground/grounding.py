@@ -38,6 +38,7 @@ from mega_sat.model.features import (
     FVALUE,
     GOAL,
     INIT,
+    NEGGOAL,
     NEGPRE,
     PRE,
     SCHEMA,
@@ -616,14 +617,101 @@ def ground(
             (ids[a], guards.of(Feature(kind, "", a), a in r, a in h)) for a in sorted(r | h)
         )
 
+    init = state_entries(INIT, robot.init, human.init)
+    goal = state_entries(GOAL, robot.goal, human.goal)
+    negative = {
+        ids[a]: guards.of(Feature(NEGGOAL, "", a), a in robot.neggoal, a in human.neggoal)
+        for a in sorted(robot.neggoal | human.neggoal)
+        if a in ids  # an atom no model reaches is false in every state: nothing to compile
+    }
+    if negative:
+        actions, init, goal = _complement_negative_goals(negative, ids, actions, init, goal)
     atoms = tuple(sorted(ids, key=ids.__getitem__))
     return GroundFamily(
         atoms=atoms,
         n_updates=len(task.delta),
         actions=tuple(actions),
-        init=state_entries(INIT, robot.init, human.init),
-        goal=state_entries(GOAL, robot.goal, human.goal),
+        init=init,
+        goal=goal,
     )
+
+
+def complement_atom(atom: Atom) -> Atom:
+    """The atom that holds exactly when ``atom`` does not, for negative goals: its predicate
+    ``not p`` is no PDDL name, so it never meets one of the model's."""
+    return (f"not {atom[0]}", *atom[1:])
+
+
+def _complement_negative_goals(
+    negative: dict[int, Guard],
+    ids: dict[Atom, int],
+    actions: list[GroundAction],
+    init: tuple[Entry, ...],
+    goal: tuple[Entry, ...],
+) -> tuple[list[GroundAction], tuple[Entry, ...], tuple[Entry, ...]]:
+    """Negative goals as positive goals on complement atoms, kept in sync by every action and
+    under the same guards, so that every model of the family stays plain STRIPS with positive
+    goals (encodings/sequential.md, "Negative goals").
+
+    An action adding ``p`` deletes its complement under the add's guard.  One deleting ``p``
+    adds the complement under the delete's guard, unless the action also adds ``p`` (PDDL's
+    add wins): then under the conjunction of the delete's guard and no add's, which is one
+    literal (or none) when the delete is unguarded and there is at most one guarded add.
+    Anything else would need a guard of two literals, and is refused.
+    """
+    names = {i: a for a, i in ids.items()}
+    comp = {}
+    for p in sorted(negative):
+        comp[p] = ids[complement_atom(names[p])] = len(ids)
+    out = []
+    for act in actions:
+        adds: dict[int, list[Guard]] = {}
+        for p, g in act.add:
+            if p in comp:
+                adds.setdefault(p, []).append(g)
+        dels = [(p, g) for p, g in act.delete if p in comp]
+        if not adds and not dels:
+            out.append(act)
+            continue
+        new_add: list[Entry] = []
+        for p, g in dels:
+            a_gs = adds.get(p, [])
+            if not a_gs:
+                new_add.append((comp[p], g))
+            elif None in a_gs:
+                continue  # p ends true whenever the action runs
+            elif g is None and len(a_gs) == 1:
+                i, v = a_gs[0]  # type: ignore[misc]
+                new_add.append((comp[p], (i, not v)))
+            else:
+                raise PDDLError(
+                    f"negative goal (not {atom_pddl(names[p])}): action "
+                    f"({' '.join((act.name, *act.args))}) both adds and deletes that atom under "
+                    "different updates, which mega-sat cannot compile"
+                )
+        new_del = [(comp[p], g) for p, gs in adds.items() for g in gs]
+        out.append(
+            GroundAction(
+                name=act.name,
+                args=act.args,
+                exists=act.exists,
+                pre=act.pre,
+                negpre=act.negpre,
+                add=act.add + tuple(new_add),
+                delete=act.delete + tuple(new_del),
+                cost=act.cost,
+            )
+        )
+    in_init = {p: g for p, g in init if p in comp}
+    extra_init: list[Entry] = []
+    for p in sorted(comp):
+        if p not in in_init:
+            extra_init.append((comp[p], None))
+        elif in_init[p] is not None:
+            i, v = in_init[p]  # type: ignore[misc]
+            extra_init.append((comp[p], (i, not v)))
+    extra_goal = [(comp[p], g) for p, g in negative.items()]
+    return out, init + tuple(extra_init), goal + tuple(extra_goal)
 
 
 def ground_model(model: Model) -> GroundTask:

@@ -94,6 +94,10 @@ def simulate(model: Model, plan: Sequence[PlanStep]) -> Simulation:
             return Simulation(
                 False, None, None, f"goal {atom_pddl(p)} not reached", frozenset(state), len(plan)
             )
+    for p in sorted(model.neggoal):
+        if p in state:
+            why = f"goal (not {atom_pddl(p)}) not reached"
+            return Simulation(False, None, None, why, frozenset(state), len(plan))
     return Simulation(True, cost, None, None, frozenset(state), len(plan))
 
 

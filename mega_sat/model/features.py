@@ -15,9 +15,10 @@ from dataclasses import dataclass, field
 from mega_sat.model.lifted import Atom, CostTerm, Model, Schema, atom_str
 
 # Feature kinds, in the order they are listed in output.
-INIT, GOAL, SCHEMA, PRE, NEGPRE, ADD, DEL, COST, FVALUE = (
+INIT, GOAL, NEGGOAL, SCHEMA, PRE, NEGPRE, ADD, DEL, COST, FVALUE = (
     "init",
     "goal",
+    "neggoal",
     "schema",
     "pre",
     "negpre",
@@ -26,7 +27,9 @@ INIT, GOAL, SCHEMA, PRE, NEGPRE, ADD, DEL, COST, FVALUE = (
     "cost",
     "fvalue",
 )
-KIND_ORDER = {k: i for i, k in enumerate((INIT, GOAL, SCHEMA, PRE, NEGPRE, ADD, DEL, COST, FVALUE))}
+KIND_ORDER = {
+    k: i for i, k in enumerate((INIT, GOAL, NEGGOAL, SCHEMA, PRE, NEGPRE, ADD, DEL, COST, FVALUE))
+}
 
 
 def cost_str(cost: int | CostTerm) -> str:
@@ -59,6 +62,8 @@ class Feature:
             return f"has-initial-state-{atom_str(self.atom)}"
         if k == GOAL:
             return f"has-goal-state-{atom_str(self.atom)}"
+        if k == NEGGOAL:
+            return f"has-negative-goal-state-{atom_str(self.atom)}"
         if k == SCHEMA:
             params = [
                 f"{p} - {t}" if t else p
@@ -117,6 +122,7 @@ def gamma(model: Model) -> frozenset[Feature]:
     out: set[Feature] = set()
     out.update(Feature(INIT, "", a) for a in model.init)
     out.update(Feature(GOAL, "", a) for a in model.goal)
+    out.update(Feature(NEGGOAL, "", a) for a in model.neggoal)
     for s in model.schemas.values():
         out.update(schema_features(s))
     out.update(Feature(FVALUE, "", term + (str(v),)) for term, v in model.functions.items())
@@ -239,6 +245,7 @@ def model_from_features(feats: Iterable[Feature], human: Model, robot: Model) ->
         objects=human.objects | robot.objects,
         init=frozenset(f.atom for f in feats if f.kind == INIT),
         goal=frozenset(f.atom for f in feats if f.kind == GOAL),
+        neggoal=frozenset(f.atom for f in feats if f.kind == NEGGOAL),
         type_predicates=human.type_predicates | robot.type_predicates,
         functions=functions,
         function_arities=farities,

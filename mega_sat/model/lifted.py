@@ -84,7 +84,8 @@ class Model:
     ``type_predicates`` names the predicates that stand for PDDL types, so writers and docs can
     tell them apart.  ``functions`` holds the ground values of static cost functions.
     ``uses_costs`` records whether the domain declared ``:action-costs``; without it every
-    action costs 1.
+    action costs 1.  ``goal`` holds the atoms the goal requires true, ``neggoal`` those it
+    requires false.
     """
 
     domain_name: str
@@ -98,6 +99,8 @@ class Model:
     functions: Mapping[CostTerm, int] = field(default_factory=dict)
     function_arities: Mapping[str, int] = field(default_factory=dict)
     uses_costs: bool = False
+    neggoal: frozenset[Atom] = frozenset()
+    """Atoms the goal requires false (PDDL ``(not (p ...))`` in ``:goal``)."""
 
     def schema_cost(self, schema: Schema, args: tuple[str, ...]) -> int:
         """Cost of ``schema`` applied to ``args`` in this model.

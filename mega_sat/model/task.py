@@ -110,6 +110,7 @@ def align_human(
         objects=human.objects,
         init=human.init,
         goal=human.goal,
+        neggoal=human.neggoal,
         type_predicates=human.type_predicates,
         functions=human.functions,
         function_arities=human.function_arities,

@@ -12,7 +12,7 @@ it in :mod:`mega_sat.pddl.check_problem`.
   (``decrease``, ``assign``, ``scale-up``, ``scale-down``, increases of other functions),
   ``oneof``, ``either`` types (except in predicate and function declarations, whose argument
   types are ignored anyway), ``:derived``, ``:durative-action``, ``:process``, ``:event``,
-  ``:constraints``, object fluents, timed initial literals, negative or non-conjunctive goals,
+  ``:constraints``, object fluents, timed initial literals, non-conjunctive goals,
   cost expressions other than a non-negative integer or a static function term, and metrics
   other than ``minimize (total-cost)``;
 * requirement flags: a flag only *permits* constructs, so flags whose constructs are detected
@@ -533,12 +533,12 @@ class Checker:
             for sub in node.items[1:]:
                 self.condition(sub, info, variables, what, goal=goal)
         elif head == "not":
-            if goal:
-                raise self.refuse("negative goal 'not'", node)
             if len(node.items) != 2 or not isinstance(node.items[1], SList):
                 raise self.fail(f"malformed 'not' in {what}", node)
             sub = node.items[1]
             if sub.head == "=":
+                if goal:
+                    raise self.equality_or_comparison(sub, " in the goal")
                 self.equality(sub, info, variables, what)
                 return
             if sub.head in KEYWORDS or sub.head is None:

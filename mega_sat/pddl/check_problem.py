@@ -178,6 +178,15 @@ class ProblemChecker(Checker):
                 self.goal(sub, info, objects)
         elif isinstance(node, SList) and node.head not in KEYWORDS and node.head is not None:
             self.atom(node, info, None, objects, ":goal")
+        elif (
+            isinstance(node, SList)
+            and node.head == "not"
+            and len(node.items) == 2
+            and isinstance(node.items[1], SList)
+            and node.items[1].head not in KEYWORDS
+            and node.items[1].head not in (None, "=")
+        ):  # a negative goal
+            self.atom(node.items[1], info, None, objects, ":goal")
         else:
             self.condition(node, info, set(), ":goal", goal=True)
             raise self.fail(f"unexpected {show(node)} in :goal", node)

@@ -154,10 +154,14 @@ def to_model(domain, problem, info: DomainInfo, domain_path: str, problem_path: 
             raise _unexpected(el, problem_path)
 
     goal: set[Atom] = set()
+    neggoal: set[Atom] = set()
     for lit in _conjuncts(problem.goal):
-        if not isinstance(lit, Predicate):
+        if isinstance(lit, Not) and isinstance(lit.argument, Predicate):
+            neggoal.add(_atom(lit.argument))
+        elif isinstance(lit, Predicate):
+            goal.add(_atom(lit))
+        else:
             raise _unexpected(lit, problem_path)
-        goal.add(_atom(lit))
 
     model = Model(
         domain_name=str(domain.name),
@@ -167,6 +171,7 @@ def to_model(domain, problem, info: DomainInfo, domain_path: str, problem_path: 
         objects=frozenset(objects),
         init=frozenset(init),
         goal=frozenset(goal),
+        neggoal=frozenset(neggoal),
         type_predicates=type_preds,
         functions=functions,
         function_arities=dict(info.functions),

@@ -48,7 +48,7 @@ def _arities(pairs: list[tuple[str, int]], what: str) -> dict[str, int]:
 def _predicate_arities(model: Model) -> dict[str, int]:
     """Declared arities plus those of any atom the model uses (hand-built models); equality
     is built into PDDL and not declared."""
-    atoms = [*model.init, *model.goal]
+    atoms = [*model.init, *model.goal, *model.neggoal]
     for s in model.schemas.values():
         atoms.extend(_schema_atoms(s))
     out = _arities([*model.predicates.items(), *((a[0], len(a) - 1) for a in atoms)], "predicate")
@@ -122,7 +122,7 @@ def domain_to_pddl(model: Model, *, plain_variables: bool = False) -> str:
     than PDDL does; the actions and plans are the same."""
     costs = _writes_costs(model)
     reqs = [":strips"]
-    if any(s.negpre for s in model.schemas.values()):
+    if model.neggoal or any(s.negpre for s in model.schemas.values()):
         reqs.append(":negative-preconditions")
     if tests_equality(model.schemas.values()):
         reqs.append(":equality")
@@ -161,7 +161,7 @@ def problem_to_pddl(model: Model) -> str:
     """
     costs = _writes_costs(model)
     lines = [f"(define (problem {model.problem_name})", f"  (:domain {model.domain_name})"]
-    named = {x for a in (*model.init, *model.goal, *model.functions) for x in a[1:]}
+    named = {x for a in (*model.init, *model.goal, *model.neggoal, *model.functions) for x in a[1:]}
     consts = set(_constants(model))
     objects = sorted((model.objects | named) - consts)
     if objects:
@@ -173,6 +173,7 @@ def problem_to_pddl(model: Model) -> str:
     init += [f"(= {atom_pddl(t)} {v})" for t, v in sorted(model.functions.items())]
     lines.append("  (:init " + "\n         ".join(init) + ")" if init else "  (:init)")
     goal = [atom_pddl(a) for a in sorted(model.goal)]
+    goal += [f"(not {atom_pddl(a)})" for a in sorted(model.neggoal)]
     lines.append(f"  (:goal {_conj(goal, ' ' * 9)})")
     if costs:
         lines.append("  (:metric minimize (total-cost))")

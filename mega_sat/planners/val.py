@@ -126,7 +126,7 @@ def val_names(model: Model, plan: Sequence[PlanStep]) -> tuple[Model, tuple[Plan
     task otherwise."""
     names: set[str] = {*model.objects, *model.predicates, *model.schemas, *model.function_arities}
     names |= {model.domain_name, model.problem_name}
-    for atoms in (model.init, model.goal, model.functions):
+    for atoms in (model.init, model.goal, model.neggoal, model.functions):
         names.update(x for a in atoms for x in a)
     for sc in model.schemas.values():
         names.update(x for a in (*sc.pre, *sc.negpre, *sc.add, *sc.delete) for x in a)
@@ -152,6 +152,7 @@ def val_names(model: Model, plan: Sequence[PlanStep]) -> tuple[Model, tuple[Plan
         objects=frozenset(ren.get(o, o) for o in model.objects),
         init=atoms(model.init),
         goal=atoms(model.goal),
+        neggoal=atoms(model.neggoal),
         type_predicates=frozenset(ren.get(t, t) for t in model.type_predicates),
         functions={atom(t): v for t, v in model.functions.items()},
         function_arities={ren.get(f, f): k for f, k in model.function_arities.items()},

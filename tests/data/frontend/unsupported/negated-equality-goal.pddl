@@ -1,7 +1,7 @@
-; unsupported/negative-goal
+; unsupported/negated-equality-goal
 (define (problem base-1)
   (:domain base)
   (:objects o1 o2)
   (:init (p o1) (r o1 o2))
   (:goal (and (q o1)
-         (not (p o2)))))
+         (not (= o1 o2)))))
