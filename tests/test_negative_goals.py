@@ -237,6 +237,19 @@ def test_an_action_that_adds_and_deletes_a_negative_goal_atom():
     assert fr.robot_optimal_cost == c_r == 3 and _pairs(fr.points) == points == [(1, 3)]
 
 
+def test_an_add_and_a_delete_under_two_updates_is_one_clear_error():
+    """The human lacks both effects of ``move-light``: the complement's add would need a guard
+    of two literals."""
+    human = MOVE_DOMAIN.replace("(and (not (on ?x)) (on ?y) (increase", "(and (increase")
+    task = load_task_from_strings(MOVE_DOMAIN, MOVE_PROBLEM, human)
+    with pytest.raises(PDDLError) as info:
+        ground(task)
+    assert str(info.value) == (
+        "robot domain: negative goal (not (on a)): action (move-light a a) both adds and "
+        "deletes that atom under different updates, which mega-sat cannot compile"
+    )
+
+
 def test_negative_goals_are_written_back_and_read_again(tmp_path):
     task = _task()
     for model in (task.robot, task.human, task.updated_model(task.all_updates)):

@@ -625,7 +625,9 @@ def ground(
         if a in ids  # an atom no model reaches is false in every state: nothing to compile
     }
     if negative:
-        actions, init, goal = _complement_negative_goals(negative, ids, actions, init, goal)
+        actions, init, goal = _complement_negative_goals(
+            negative, ids, actions, init, goal, source=task.sources.get("robot_domain")
+        )
     atoms = tuple(sorted(ids, key=ids.__getitem__))
     return GroundFamily(
         atoms=atoms,
@@ -648,6 +650,8 @@ def _complement_negative_goals(
     actions: list[GroundAction],
     init: tuple[Entry, ...],
     goal: tuple[Entry, ...],
+    *,
+    source: str | None = None,
 ) -> tuple[list[GroundAction], tuple[Entry, ...], tuple[Entry, ...]]:
     """Negative goals as positive goals on complement atoms, kept in sync by every action and
     under the same guards, so that every model of the family stays plain STRIPS with positive
@@ -657,7 +661,8 @@ def _complement_negative_goals(
     adds the complement under the delete's guard, unless the action also adds ``p`` (PDDL's
     add wins): then under the conjunction of the delete's guard and no add's, which is one
     literal (or none) when the delete is unguarded and there is at most one guarded add.
-    Anything else would need a guard of two literals, and is refused.
+    Anything else would need a guard of two literals, and is refused (a :class:`PDDLError`
+    naming ``source``).
     """
     names = {i: a for a, i in ids.items()}
     comp = {}
@@ -687,7 +692,8 @@ def _complement_negative_goals(
                 raise PDDLError(
                     f"negative goal (not {atom_pddl(names[p])}): action "
                     f"({' '.join((act.name, *act.args))}) both adds and deletes that atom under "
-                    "different updates, which mega-sat cannot compile"
+                    "different updates, which mega-sat cannot compile",
+                    path=source,
                 )
         new_del = [(comp[p], g) for p, gs in adds.items() for g in gs]
         out.append(
