@@ -257,6 +257,16 @@ class Options:
             "search answers it instead (0: no limit)",
         },
     )
+    joint_sat_action_steps: int = field(
+        default=12_000,
+        metadata={
+            "zero": True,
+            "doc": "ground actions times the horizon of a JOINT call under --joint sat past "
+            "which the paired-state search answers it without SAT: the encoding has some 30 "
+            "to 50 clauses per action and step, and on a million clauses each conflict is "
+            "dear (a count, so the choice is the same on any machine; 0: no limit)",
+        },
+    )
     portfolio_conflicts: int = field(
         default=5000,
         metadata={"doc": "first SAT conflict budget of a JOINT call under --joint portfolio"},

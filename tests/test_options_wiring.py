@@ -90,6 +90,33 @@ def test_a_joint_call_sat_has_not_settled_goes_to_the_search():
     assert capped.stats["joint_searches"] > plain.stats["joint_searches"]
 
 
+def test_a_joint_call_past_the_action_steps_goes_to_the_search_without_sat():
+    """Under ``--joint sat`` a JOINT call that needs SAT at a horizon where ground actions
+    times steps exceed ``joint_sat_action_steps`` is answered by the paired-state search before
+    the JOINT encoding grows: the same frontier, still exact.  blocksworld Δ7 p1 asks SAT at
+    horizon 7 over 60 ground actions (420 action steps)."""
+    root = Path(__file__).resolve().parents[1]
+    task = api.load_task_dir(root / "domains/blocksworld/delta/7/p1")
+    plain = api.MegaSolver(task, joint="sat", options=Options(joint_sat_action_steps=0))
+    small = api.MegaSolver(task, joint="sat", options=Options(joint_sat_action_steps=419))
+    wide = api.MegaSolver(task, joint="sat", options=Options(joint_sat_action_steps=420))
+    fp, fs, fw = plain.frontier(), small.frontier(), wide.frontier()
+    assert [(p.size, p.robot_cost) for p in fs.points] == [
+        (p.size, p.robot_cost) for p in fp.points
+    ]
+    assert fs.exact and fp.exact
+    assert fp.stats["sat_joint_horizon"] == 7 and fp.stats["joint_searches"] == 0
+    assert fs.stats["sat_joint_horizon"] == 0 and fs.stats["joint_searches"] > 0
+
+    def untimed(f):
+        return {k: v for k, v in f.stats.items() if "time" not in k}
+
+    assert untimed(fw) == untimed(fp)  # at the limit itself SAT still answers
+    # the oracle on its own: the call stops before SAT, with nothing proven
+    r = small.oracles.joint(frozenset(), None, 7, max_action_steps=1)
+    assert r.status == Status.LIMIT and not r.exact and "action steps" in r.reason
+
+
 def test_solver_refuses_options_of_another_type():
     with pytest.raises(UsageError, match="mega_sat.options.Options"):
         api.MegaSolver(usar_like(), options={"quick_nodes": 1})

@@ -73,8 +73,8 @@ def engine_options(fn):
             type=click.Choice(["portfolio", "sat", "search"]),
             default=None,
             help="How the sat engine answers JOINT: SAT with a conflict budget then "
-            "explicit search, SAT (search past joint_sat_conflicts), or search only (all "
-            "exact).  [default: sat; "
+            "explicit search, SAT (search past joint_sat_conflicts or "
+            "joint_sat_action_steps), or search only (all exact).  [default: sat; "
             "portfolio if some action costs 0]",
         ),
         click.option("--hitting-set", type=HITTING, default="rc2", show_default=True),

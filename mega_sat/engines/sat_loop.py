@@ -231,8 +231,11 @@ def sat_frontier(
         if joint == "search":
             return None
         # under --joint sat a call SAT has not settled after joint_sat_conflicts goes to the
-        # paired-state search (a long horizon's optimality proof can take SAT minutes)
+        # paired-state search (a long horizon's optimality proof can take SAT minutes), and so
+        # does one whose encoding would be past joint_sat_action_steps (conflicts are dear on
+        # a million clauses, and python-sat's CaDiCaL has no propagation budget to see that)
         own = budget.conflicts if joint == "portfolio" else options.joint_sat_conflicts or None
+        steps = options.joint_sat_action_steps if joint == "sat" else 0
         caps = [c for c in (own, cap) if c is not None]
         t_sat = time.perf_counter()
         res = orc.joint(
@@ -243,6 +246,7 @@ def sat_frontier(
             robot_lower_bound=robot_lb,
             human_lower_bound=human_lower_bound,
             conflict_budget=min(caps) if caps else None,
+            max_action_steps=steps or None,
         )
         joint_seconds[0] = time.perf_counter() - t_sat
         stats["joint_calls"] += 1

@@ -5,7 +5,9 @@ The JOINT solver holds the human and the robot copy sharing the action variables
 within the bounds is improved by asking for robot cost ``<= rc - 1`` until UNSAT (or a lower
 bound is met); an UNSAT answer gives the solver's core, shrunk by :mod:`mega_sat.sat.cores`.
 When the horizon that makes the answer a proof is above the cap, the explicit paired-state
-search of :mod:`mega_sat.search.joint` answers instead.
+search of :mod:`mega_sat.search.joint` answers instead.  A call whose formula would be past
+the caller's ``max_action_steps`` (ground actions times horizon) is ``LIMIT`` before any SAT
+call, for the caller's own search to answer.
 """
 
 from __future__ import annotations
@@ -97,6 +99,7 @@ class JointOracle:
         plan_lower_bound: int = 0,
         human_optimum: int | None = None,
         conflict_budget: int | None = None,
+        max_action_steps: int | None = None,
     ) -> JointResult:
         """JOINT under the selector literals ``lits`` (``sel``: the full selection they assign,
         if they do); see :meth:`mega_sat.sat.oracles.SatOracles.joint`."""
@@ -156,6 +159,14 @@ class JointOracle:
         sel_lits = enc.lits_assumptions(lits)
         robot_task = orc.task(orc.family.robot_selection)
         best = None if sel is None else self._best_hint(hints, sel, robot_bound, human_bound, h)
+        action_steps = len(orc.family.actions) * h
+        if max_action_steps and action_steps > max_action_steps and (best is None or best[1] > lb):
+            # SAT would be needed, on an encoding too big for cheap conflicts: the caller's
+            # explicit search answers instead
+            why = f"{action_steps} action steps > {max_action_steps}: no SAT call"
+            if best is None:
+                return done(Status.LIMIT, why=why)
+            return done(Status.LIMIT, *best, sel=sel, why=why)
         if best is None:
             base = (
                 enc.cost_assumptions(HUMAN, human_bound, h)

@@ -209,6 +209,7 @@ class SatOracles:
         robot_lower_bound: int | None = None,
         human_lower_bound: int | None = None,
         conflict_budget: int | None = None,
+        max_action_steps: int | None = None,
     ) -> JointResult:
         """Cheapest robot plan valid in the robot model (robot cost <= ``robot_bound``, None =
         unbounded) and in ``human + selection`` with human cost <= ``human_bound``; or a
@@ -228,6 +229,9 @@ class SatOracles:
 
         ``conflict_budget`` caps each SAT call; when it runs out the result has status
         ``LIMIT`` (nothing proven; ``plan`` is the best witness found so far, if any).
+        ``max_action_steps`` (``None``: no limit) caps the size of the encoding SAT may use:
+        a call that needs SAT at a horizon ``h`` with ground actions times ``h`` above it has
+        status ``LIMIT`` at once, before the encoding grows to ``h``.
         """
         sel = frozenset(selection)
         lits = [(i, i in sel) for i in range(self.family.n_updates)]
@@ -245,6 +249,7 @@ class SatOracles:
             plan_lower_bound=plan_lb,
             human_optimum=human_lower_bound,
             conflict_budget=conflict_budget,
+            max_action_steps=max_action_steps,
         )
 
     def joint_lits(
