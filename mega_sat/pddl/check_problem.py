@@ -31,6 +31,7 @@ class ProblemChecker(Checker):
     def __init__(self, path: str, *, borrowed: bool = False):
         super().__init__(path)
         self.borrowed = borrowed
+        self.left_out = False  # whether ``borrowed`` left something out
 
     def problem(self, root: SList, info: DomainInfo) -> list[SList]:
         """Check a problem against ``info``; return the forms a repaired text leaves out: its
@@ -86,6 +87,7 @@ class ProblemChecker(Checker):
             elif key == ":metric":
                 if self.borrowed and not info.uses_total_cost:
                     drop.append(node)
+                    self.left_out = True
                 else:
                     self.metric(node, info)
             elif key == ":constraints":
@@ -146,11 +148,13 @@ class ProblemChecker(Checker):
         if f == "total-cost":
             if not info.uses_total_cost:
                 if self.borrowed:
+                    self.left_out = True
                     return True
                 raise self.fail("(total-cost) is not declared in the domain's :functions", el)
             return False
         if f is None or f not in info.functions:
             if self.borrowed and f is not None:
+                self.left_out = True
                 return True
             raise self.fail(f"undefined function '{f}' in :init", el)
         if len(term.items) - 1 != info.functions[f]:

@@ -86,7 +86,7 @@ def parse_model(
     drop = checker.problem(_sexpr(ptext, ptree, problem_path), info)
     parsed = None
     # what a borrowed problem leaves out must not reach the library's reading
-    if dtree is not None and ptree is not None and not (borrowed_problem and drop):
+    if dtree is not None and ptree is not None and not checker.left_out:
         try:
             parsed = transform(dtree, "domain"), transform(ptree, "problem")
         except Exception:  # the repaired parse below words it as the library states it
