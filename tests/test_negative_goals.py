@@ -317,3 +317,11 @@ def test_random_negative_goals_against_the_lifted_reference(task):
     assert fr.robot_optimal_cost == c_r
     assert _pairs(fr.points) == points
     assert [(k, c) for k, c in points] == _pairs(pareto_filter(fr.points))
+
+
+def test_the_generator_may_leave_a_negative_goal_out_of_the_human_model():
+    from mega_sat.bench.generate import _candidate_updates
+
+    robot = _task().robot
+    names = {u.name for u in _candidate_updates(robot, frozenset(robot.init))}
+    assert {"add-has-negative-goal-state-on a", "add-has-negative-goal-state-on b"} <= names

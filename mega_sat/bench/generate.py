@@ -20,6 +20,7 @@ from mega_sat.model.features import (
     DEL,
     GOAL,
     INIT,
+    NEGGOAL,
     NEGPRE,
     PRE,
     Feature,
@@ -61,6 +62,7 @@ def _candidate_updates(robot: Model, reachable: frozenset[Atom]) -> list[Update]
                     cands.append(Update(Feature(kind, s.name, a), True))
     cands += [Update(Feature(INIT, "", a), True) for a in sorted(robot.init) if a[0] not in tp]
     cands += [Update(Feature(GOAL, "", a), True) for a in sorted(robot.goal)]
+    cands += [Update(Feature(NEGGOAL, "", a), True) for a in sorted(robot.neggoal)]
     # additions: lifted atoms shaped like the domain's own uses of each predicate
     shapes: set[tuple[str, tuple[frozenset[str], ...]]] = set()
     for s in robot.schemas.values():
