@@ -246,8 +246,27 @@ def test_an_add_and_a_delete_under_two_updates_is_one_clear_error():
         ground(task)
     assert str(info.value) == (
         "robot domain: negative goal (not (on a)): action (move-light a a) both adds and "
-        "deletes that atom under different updates, which mega-sat cannot compile"
+        "deletes that atom under two different updates, which mega-sat cannot compile (an "
+        "inequality precondition of 'move-light' in both models that rules out this grounding "
+        "avoids it)"
     )
+    # the way out the message names: (move-light a a) is left out of grounding
+    distinct = "(and (on ?x) (lamp ?y) (not (= ?x ?y)))"
+    robot = MOVE_DOMAIN.replace("(and (on ?x) (lamp ?y))", distinct)
+    human = human.replace("(and (on ?x) (lamp ?y))", distinct)
+    task = load_task_from_strings(robot, MOVE_PROBLEM, human)
+    c_r, points = lifted_frontier(task)
+    assert _pairs(frontier(task).points) == points and c_r == 3
+    # a schema only the human has is named in the human's domain
+    shift = """  (:action shift :parameters (?x ?y)
+    :precondition (and (on ?x) (lamp ?y))
+    :effect (and (not (on ?x)) (on ?y) (increase (total-cost) 1)))
+  (:action off"""
+    task = load_task_from_strings(
+        MOVE_DOMAIN, MOVE_PROBLEM, MOVE_DOMAIN.replace("  (:action off", shift), None
+    )
+    with pytest.raises(PDDLError, match=r"^human domain: .*action \(shift a a\)"):
+        ground(task)
 
 
 def test_negative_goals_are_written_back_and_read_again(tmp_path):

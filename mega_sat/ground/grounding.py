@@ -625,8 +625,13 @@ def ground(
         if a in ids  # an atom no model reaches is false in every state: nothing to compile
     }
     if negative:
+        # the domain that states an action, for the one error below
+        sources = {
+            name: task.sources.get("robot_domain" if name in robot.schemas else "human_domain")
+            for name in lifted
+        }
         actions, init, goal = _complement_negative_goals(
-            negative, ids, actions, init, goal, source=task.sources.get("robot_domain")
+            negative, ids, actions, init, goal, sources=sources
         )
     atoms = tuple(sorted(ids, key=ids.__getitem__))
     return GroundFamily(
@@ -651,7 +656,7 @@ def _complement_negative_goals(
     init: tuple[Entry, ...],
     goal: tuple[Entry, ...],
     *,
-    source: str | None = None,
+    sources: dict[str, str | None] | None = None,
 ) -> tuple[list[GroundAction], tuple[Entry, ...], tuple[Entry, ...]]:
     """Negative goals as positive goals on complement atoms, kept in sync by every action and
     under the same guards, so that every model of the family stays plain STRIPS with positive
@@ -662,7 +667,7 @@ def _complement_negative_goals(
     add wins): then under the conjunction of the delete's guard and no add's, which is one
     literal (or none) when the delete is unguarded and there is at most one guarded add.
     Anything else would need a guard of two literals, and is refused (a :class:`PDDLError`
-    naming ``source``).
+    naming the file ``sources`` gives for the action's schema).
     """
     names = {i: a for a, i in ids.items()}
     comp = {}
@@ -692,8 +697,10 @@ def _complement_negative_goals(
                 raise PDDLError(
                     f"negative goal (not {atom_pddl(names[p])}): action "
                     f"({' '.join((act.name, *act.args))}) both adds and deletes that atom under "
-                    "different updates, which mega-sat cannot compile",
-                    path=source,
+                    f"two different updates, which mega-sat cannot compile (an inequality "
+                    f"precondition of '{act.name}' in both models that rules out this grounding "
+                    "avoids it)",
+                    path=(sources or {}).get(act.name),
                 )
         new_del = [(comp[p], g) for p, gs in adds.items() for g in gs]
         out.append(
