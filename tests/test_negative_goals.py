@@ -267,6 +267,14 @@ def test_an_add_and_a_delete_under_two_updates_is_one_clear_error():
     )
     with pytest.raises(PDDLError, match=r"^human domain: .*action \(shift a a\)"):
         ground(task)
+    # one lifted atom both added and deleted: no inequality helps, and none is suggested
+    same = shift.replace("(?x ?y)", "(?x)").replace("(lamp ?y)", "(lamp ?x)")
+    same = same.replace("(not (on ?x)) (on ?y)", "(not (on ?x)) (on ?x)")
+    task = load_task_from_strings(
+        MOVE_DOMAIN, MOVE_PROBLEM, MOVE_DOMAIN.replace("  (:action off", same), None
+    )
+    with pytest.raises(PDDLError, match=r"action \(shift a\) .*cannot compile$"):
+        ground(task)
 
 
 def test_negative_goals_are_written_back_and_read_again(tmp_path):
@@ -344,3 +352,17 @@ def test_the_generator_may_leave_a_negative_goal_out_of_the_human_model():
     robot = _task().robot
     names = {u.name for u in _candidate_updates(robot, frozenset(robot.init))}
     assert {"add-has-negative-goal-state-on a", "add-has-negative-goal-state-on b"} <= names
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_generated_human_models_hold_no_complement_atoms(seed, tmp_path):
+    """Grounding's complement atoms are no atoms of the model: a draw must not add them to the
+    human's initial state or goal (they would be written as a predicate named 'not ...')."""
+    from mega_sat.bench.generate import generate_human
+
+    robot = _task().robot
+    g = generate_human(robot, 3, seed, time_budget=30)
+    assert not any(u.feature.atom and u.feature.atom[0].startswith("not ") for u in g.updates)
+    human = g.human
+    again = parse_model(domain_to_pddl(human), problem_to_pddl(human))
+    assert again.goal == human.goal and again.neggoal == human.neggoal

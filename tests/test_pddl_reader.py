@@ -556,3 +556,13 @@ def test_negated_equalities_in_init_are_dropped():
     three = BASE_PROBLEM.read_text().replace("(:init", "(:init (not (= o1 o2 o1))")
     with pytest.raises(PDDLError, match=r"'=' takes 2 arguments, got 3 in :init"):
         parse_model(BASE_DOMAIN.read_text(), three)
+
+
+def test_an_undefined_type_in_a_predicate_declaration_names_its_line():
+    dom = """(define (domain d) (:requirements :strips :typing) (:types t)
+      (:predicates (p ?x - t)
+                   (q ?x - tt))
+      (:action a :parameters (?x - t) :precondition (p ?x) :effect (not (p ?x))))"""
+    prob = "(define (problem q) (:domain d) (:objects o - t) (:init (p o)) (:goal (and)))"
+    with pytest.raises(PDDLError, match=r"^d\.pddl: line 3: undefined type 'tt' in predicate 'q'$"):
+        parse_model(dom, prob, domain_path="d.pddl")

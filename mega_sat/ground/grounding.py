@@ -694,12 +694,18 @@ def _complement_negative_goals(
                 i, v = a_gs[0]  # type: ignore[misc]
                 new_add.append((comp[p], (i, not v)))
             else:
+                # an inequality can rule out a grounding that repeats an object, as when
+                # (at ?from) and (at ?to) meet at ?from = ?to
+                hint = (
+                    f" (an inequality precondition of '{act.name}' in both models that rules "
+                    "out this grounding avoids it)"
+                    if len(set(act.args)) < len(act.args)
+                    else ""
+                )
                 raise PDDLError(
                     f"negative goal (not {atom_pddl(names[p])}): action "
                     f"({' '.join((act.name, *act.args))}) both adds and deletes that atom under "
-                    f"two different updates, which mega-sat cannot compile (an inequality "
-                    f"precondition of '{act.name}' in both models that rules out this grounding "
-                    "avoids it)",
+                    f"two different updates, which mega-sat cannot compile{hint}",
                     path=(sources or {}).get(act.name),
                 )
         new_del = [(comp[p], g) for p, gs in adds.items() for g in gs]

@@ -421,6 +421,8 @@ class Checker:
                 raise self.fail(f"malformed predicate declaration {show(p)}", p)
             self.name_not_reserved(p.items[0], "a predicate")
             args = self.typed_list(p.items[1:], f"predicate '{p.head}'", either_ok=True)
+            for tok, typ in args:
+                self.check_type(typ, info.types, tok, f"predicate '{p.head}'")
             self.rename_keyword_variables(p, [t.text for t, _ in args], info)
             if p.head in info.types:
                 raise self.fail(
