@@ -141,7 +141,7 @@ def generate_human(
             f"no plan of the robot problem found within {limit:g}s; "
             "cannot check that generated models stay solvable"
         )
-    # the model's own atoms: grounding adds complement atoms for negative goals, no PDDL's
+    # the model's own atoms, without the complement atoms grounding adds for negative goals
     reachable = frozenset(a for a in rt.atoms if a[0] in robot.predicates)
     cands = _candidate_updates(robot, reachable)
     if len(cands) < k:

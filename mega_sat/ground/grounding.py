@@ -631,7 +631,7 @@ def ground(
             for name in lifted
         }
         actions, init, goal = _complement_negative_goals(
-            negative, ids, actions, init, goal, sources=sources
+            negative, ids, actions, init, goal, sources
         )
     atoms = tuple(sorted(ids, key=ids.__getitem__))
     return GroundFamily(
@@ -655,8 +655,7 @@ def _complement_negative_goals(
     actions: list[GroundAction],
     init: tuple[Entry, ...],
     goal: tuple[Entry, ...],
-    *,
-    sources: dict[str, str | None] | None = None,
+    sources: dict[str, str | None],
 ) -> tuple[list[GroundAction], tuple[Entry, ...], tuple[Entry, ...]]:
     """Negative goals as positive goals on complement atoms, kept in sync by every action and
     under the same guards, so that every model of the family stays plain STRIPS with positive
@@ -706,7 +705,7 @@ def _complement_negative_goals(
                     f"negative goal (not {atom_pddl(names[p])}): action "
                     f"({' '.join((act.name, *act.args))}) both adds and deletes that atom under "
                     f"two different updates, which mega-sat cannot compile{hint}",
-                    path=(sources or {}).get(act.name),
+                    path=sources.get(act.name),
                 )
         new_del = [(comp[p], g) for p, gs in adds.items() for g in gs]
         out.append(
