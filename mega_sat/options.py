@@ -261,10 +261,12 @@ class Options:
         default=12_000,
         metadata={
             "zero": True,
-            "doc": "ground actions times the horizon of a JOINT call under --joint sat past "
-            "which the paired-state search answers it without SAT: the encoding has some 30 "
-            "to 50 clauses per action and step, and on a million clauses each conflict is "
-            "dear (a count, so the choice is the same on any machine; 0: no limit)",
+            "doc": "ground actions times the horizon of a JOINT call (--joint sat or "
+            "portfolio) past which the paired-state search answers it without SAT, and of "
+            "the SAT call for a plan below the robot optimum past which it is not made: the "
+            "encoding has some 30 to 50 clauses per action and step, and on a million "
+            "clauses each conflict is dear (a count, so the choice is the same on any "
+            "machine; 0: no limit)",
         },
     )
     portfolio_conflicts: int = field(

@@ -117,6 +117,23 @@ def test_a_joint_call_past_the_action_steps_goes_to_the_search_without_sat():
     assert r.status == Status.LIMIT and not r.exact and "action steps" in r.reason
 
 
+def test_the_size_limit_holds_for_the_joint_portfolio_and_the_plan_below_robot():
+    """``joint_sat_action_steps`` also sends ``--joint portfolio`` calls to the search before
+    the encoding grows (blocksworld Δ7 p1), and skips the SAT call for a plan below the robot
+    optimum (barman-bar Δ2 p3): the same frontiers, still exact."""
+    for name, grown in (("blocksworld/delta/7/p1", "sat_joint_horizon"),
+                        ("barman-bar/delta/2/p3", "sat_plan_within_calls")):  # fmt: skip
+        task = api.load_task_dir(ROOT / "domains" / name)
+        free = api.MegaSolver(task, joint="portfolio").frontier()
+        tight = api.MegaSolver(task, joint="portfolio", options=Options(joint_sat_action_steps=1))
+        ft = tight.frontier()
+        assert [(p.size, p.robot_cost) for p in ft.points] == [
+            (p.size, p.robot_cost) for p in free.points
+        ]
+        assert ft.exact and free.exact
+        assert free.stats[grown] > 0 and ft.stats.get(grown, 0) == 0
+
+
 def test_solver_refuses_options_of_another_type():
     with pytest.raises(UsageError, match="mega_sat.options.Options"):
         api.MegaSolver(usar_like(), options={"quick_nodes": 1})

@@ -231,11 +231,12 @@ def sat_frontier(
         if joint == "search":
             return None
         # under --joint sat a call SAT has not settled after joint_sat_conflicts goes to the
-        # paired-state search (a long horizon's optimality proof can take SAT minutes), and so
-        # does one whose encoding would be past joint_sat_action_steps (conflicts are dear on
-        # a million clauses, and python-sat's CaDiCaL has no propagation budget to see that)
+        # paired-state search (a long horizon's optimality proof can take SAT minutes); under
+        # either SAT method so does one whose encoding would be past joint_sat_action_steps
+        # (conflicts are dear on a million clauses, and python-sat's CaDiCaL has no
+        # propagation budget to see that)
         own = budget.conflicts if joint == "portfolio" else options.joint_sat_conflicts or None
-        steps = options.joint_sat_action_steps if joint == "sat" else 0
+        steps = options.joint_sat_action_steps
         caps = [c for c in (own, cap) if c is not None]
         t_sat = time.perf_counter()
         res = orc.joint(
@@ -287,7 +288,9 @@ def sat_frontier(
             if status == Status.INFEASIBLE:  # no plan below the robot optimum
                 stats["plan_below_robot_by_search"] += 1
                 return Bounds(robot_lb, known.plan, known.upper)
-        got = orc.plan_within(sel, robot_lb - 1, budget)
+        got = orc.plan_within(
+            sel, robot_lb - 1, budget, max_action_steps=options.joint_sat_action_steps or None
+        )
         return known if got is None else Bounds(known.lower, got[0], got[1])
 
     def learn_core(sel, res, plan) -> None:

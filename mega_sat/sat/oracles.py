@@ -165,16 +165,25 @@ class SatOracles:
         return self.opt_oracle.invariants.pop(frozenset(selection), None)
 
     def plan_within(
-        self, selection: Iterable[int], bound: int, budget: int
+        self,
+        selection: Iterable[int],
+        bound: int,
+        budget: int,
+        *,
+        max_action_steps: int | None = None,
     ) -> tuple[tuple[PlanStep, ...], int] | None:
         """A plan of ``human + selection`` costing at most ``bound`` and its cost, by one SAT
         call of at most ``budget`` conflicts on the OPT solver at the family-wide horizon for
         ``bound``; ``None`` when there is none or the budget ran out.  A proven "none" is
         kept as a cost core (a lower bound for later OPT calls), as in
-        :meth:`mega_sat.sat.cores.CoreShrinker.by_dominance`."""
+        :meth:`mega_sat.sat.cores.CoreShrinker.by_dominance`.  ``max_action_steps`` (``None``:
+        no limit): no call, and ``None``, when ground actions times that horizon exceed it
+        (the encoding would grow to a size where a conflict budget no longer bounds time)."""
         sel = frozenset(selection)
         enc, solver = self.opt_enc, self.solving.opt_solver
         h, exact, _ = self.joint_oracle.horizon(None, bound)
+        if max_action_steps and len(self.family.actions) * h > max_action_steps:
+            return None
         cost_lits = enc.cost_assumptions(HUMAN, bound, h)
         if cost_lits is None:
             return None
