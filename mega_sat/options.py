@@ -269,6 +269,30 @@ class Options:
             "machine; 0: no limit)",
         },
     )
+    joint_fd: bool = field(
+        default=True,
+        metadata={
+            "doc": "with Fast Downward installed, a JOINT call the paired-state search would "
+            "answer goes to FD first, on the product of the robot task and the model with "
+            "cost M * human cost + robot cost (exact when the human bound is the model's "
+            "proven optimum, encodings/hitting-set.md); off: the search alone"
+        },
+    )
+    joint_fd_lmcut: bool = field(
+        default=False,
+        metadata={
+            "doc": "FD's search on that product task: A* with LM-cut; off: blind A*, which "
+            "was faster on every task measured (bench/README.md)"
+        },
+    )
+    joint_fd_core_trials: int = field(
+        default=12,
+        metadata={
+            "zero": True,
+            "doc": "FD runs that may shrink the core of a 'no joint plan' answered by FD, one "
+            "deletion trial each on an abstraction (0: the core is every update)",
+        },
+    )
     portfolio_conflicts: int = field(
         default=5000,
         metadata={"doc": "first SAT conflict budget of a JOINT call under --joint portfolio"},

@@ -18,6 +18,7 @@ from mega_sat.cli.commands import main
 from mega_sat.deadline import Deadline, TimeLimitReached
 from mega_sat.errors import PlannerError, UsageError
 from mega_sat.options import Options, markdown_table
+from mega_sat.planners.fast_downward import fd_available
 from mega_sat.planners.node_planner import NodePlan, NodePlanner
 from mega_sat.search.astar import PlanResult
 from mega_sat.status import Status
@@ -132,6 +133,24 @@ def test_the_size_limit_holds_for_the_joint_portfolio_and_the_plan_below_robot()
         ]
         assert ft.exact and free.exact
         assert free.stats[grown] > 0 and ft.stats.get(grown, 0) == 0
+
+
+@pytest.mark.skipif(not fd_available(), reason="Fast Downward not installed")
+def test_joint_calls_for_the_search_go_to_fast_downward_first():
+    """With FD installed, the JOINT calls the paired-state search would answer go to FD on
+    the product task (``joint_fd``); off, the search answers them.  Same frontier, exact."""
+    task = api.load_task_dir(ROOT / "domains/blocksworld/delta/7/p1")
+    runs = {}
+    for on in (True, False):
+        opts = Options(joint_sat_conflicts=1, joint_fd=on)
+        runs[on] = api.MegaSolver(task, joint="sat", options=opts).frontier()
+    assert [(p.size, p.robot_cost) for p in runs[True].points] == [
+        (p.size, p.robot_cost) for p in runs[False].points
+    ]
+    assert runs[True].exact and runs[False].exact
+    assert runs[True].stats["joint_by_fd"] > 0 and runs[True].stats["joint_fd_runs"] > 0
+    assert runs[False].stats["joint_by_fd"] == 0 and runs[False].stats["joint_fd_runs"] == 0
+    assert runs[False].stats["joint_searches"] > 0
 
 
 def test_solver_refuses_options_of_another_type():

@@ -195,14 +195,28 @@ def sat_frontier(
         "joint_cores_without_plan": 0,
         "invariant_cores": 0,
         "plan_below_robot_by_search": 0,
+        "joint_by_fd": 0,
     }
     budget = _Budget(joint_conflict_budget, options)
     _searcher = []
+    _by_fd: list = []  # [JointByFd or None], made at the first call that could use it
 
     def searcher() -> JointSearcher:
         if not _searcher:
             _searcher.append(JointSearcher(family.specialize(family.robot_selection)))
         return _searcher[0]
+
+    def by_fd():
+        """Fast Downward on the product task, for the calls the paired-state search would
+        answer (None: not installed, switched off, or no proven robot optimum)."""
+        if not _by_fd:
+            made = None
+            if options.joint_fd and robot_lb is not None and opt_planner._fd_installed():
+                from mega_sat.planners.joint_fd import JointByFd
+
+                made = JointByFd(family, searcher().robot, robot_lb, options=options)
+            _by_fd.append(made)
+        return _by_fd[0]
 
     def time_out():
         nonlocal lower_bound, complete
@@ -453,14 +467,22 @@ def sat_frontier(
                     stats["joint_calls"] += res is None  # else counted with its SAT attempt
                     t_search = time.perf_counter()
                     ts = causal_support(family, sel, opt.plan)
-                    res = search_joint(
-                        searcher(),
-                        family,
-                        sel,
-                        bound,
-                        opt.cost,
-                        keep=frozenset(i for i, _ in ts),
-                        deadline=deadline,
+                    keep = frozenset(i for i, _ in ts)
+                    fd = by_fd() if opt.exact else None
+                    got = None
+                    if fd is not None:
+                        # joint plans of human cost c* known so far: pi* if the robot can
+                        # run it, and SAT's witness (its human cost is <= c*, so = c*)
+                        known = [ground_plan_cost(searcher().robot, opt.plan)]
+                        if res is not None and res.plan is not None:
+                            known.append(res.robot_cost)
+                        known = min((x for x in known if x is not None), default=None)
+                        got = fd.joint(
+                            sel, bound, opt.cost, known=known, keep=keep, deadline=deadline
+                        )
+                        stats["joint_by_fd"] += got is not None
+                    res = got or search_joint(
+                        searcher(), family, sel, bound, opt.cost, keep=keep, deadline=deadline
                     )
                     if res is None:
                         raise OracleInterrupted
@@ -519,6 +541,8 @@ def sat_frontier(
             "hitting_set": hitting_set,
             "joint": joint,
             "joint_conflict_budget_final": budget.conflicts,
+            "joint_fd_runs": _by_fd[0].runs if _by_fd and _by_fd[0] else 0,
+            "joint_fd_time_s": round(_by_fd[0].time_s, 6) if _by_fd and _by_fd[0] else 0.0,
             "hitting_set_calls": hs.calls,
             **orc.stats.as_dict(),
         },

@@ -114,18 +114,25 @@ def _error_line(stderr: str, stdout: str) -> str:
 
 
 def fd_plan(
-    domain_text: str,
-    problem_text: str,
+    domain_text: str | None,
+    problem_text: str | None,
     *,
     search: str = "astar(lmcut())",
     deadline: Deadline | None = None,
     time_limit: float | None = None,
+    sas_text: str | None = None,
 ) -> PlanResult:
-    """Run Fast Downward on PDDL text; ``planner`` of the result is ``"fd"``.  FD gets the time
-    left before ``deadline`` (or ``time_limit`` seconds, a limit of this call alone, when that
-    comes first) and answers ``TIMEOUT`` when it runs out."""
+    """Run Fast Downward on PDDL text (or on a SAS+ task, ``sas_text``); ``planner`` of the
+    result is ``"fd"``.  FD gets the time left before ``deadline`` (or ``time_limit`` seconds,
+    a limit of this call alone, when that comes first) and answers ``TIMEOUT`` when it runs
+    out."""
     return FdRun(
-        domain_text, problem_text, search=search, deadline=deadline, time_limit=time_limit
+        domain_text,
+        problem_text,
+        search=search,
+        deadline=deadline,
+        time_limit=time_limit,
+        sas_text=sas_text,
     ).result()
 
 
@@ -137,13 +144,17 @@ class FdRun:
 
     def __init__(
         self,
-        domain_text: str,
-        problem_text: str,
+        domain_text: str | None,
+        problem_text: str | None,
         *,
         search: str = "astar(lmcut())",
         deadline: Deadline | None = None,
         time_limit: float | None = None,
+        sas_text: str | None = None,
     ):
+        """FD on the PDDL ``domain_text`` and ``problem_text``, or, with ``sas_text`` (both
+        texts ``None``), on that SAS+ task, which skips the translator
+        (:mod:`mega_sat.planners.sas`)."""
         script = fd_script()
         if script is None:
             raise PlannerError("Fast Downward is not installed: pip install 'mega-sat[fd]'")
@@ -153,18 +164,25 @@ class FdRun:
             prefix="mega-sat-fd-"
         )
         tmp = self._tmp.name
-        dom, prob, self._plan_file = (
-            os.path.join(tmp, n) for n in ("domain.pddl", "problem.pddl", "plan")
+        dom, prob, sas, self._plan_file = (
+            os.path.join(tmp, n) for n in ("domain.pddl", "problem.pddl", "task.sas", "plan")
         )
-        cmd = [sys.executable, str(script), "--plan-file", self._plan_file, dom, prob]
-        # No mutex invariants: with them, a delete of an atom the action does not require
-        # becomes a conditional effect, which astar(lmcut()) refuses ("unsupported feature").
-        # Binary variables keep plain STRIPS semantics and optimal costs are unchanged.
-        cmd += ["--translate-options", "--invariant-generation-max-candidates", "0"]
-        cmd += ["--search-options", "--search", search]
+        cmd = [sys.executable, str(script), "--plan-file", self._plan_file]
+        if sas_text is not None:
+            cmd += [sas, "--search", search]  # one SAS+ file: the driver runs the search only
+        else:
+            cmd += [dom, prob]
+            # No mutex invariants: with them, a delete of an atom the action does not require
+            # becomes a conditional effect, which astar(lmcut()) refuses ("unsupported
+            # feature").  Binary variables keep plain STRIPS semantics and optimal costs.
+            cmd += ["--translate-options", "--invariant-generation-max-candidates", "0"]
+            cmd += ["--search-options", "--search", search]
         try:
-            Path(dom).write_text(domain_text)
-            Path(prob).write_text(problem_text)
+            if sas_text is not None:
+                Path(sas).write_text(sas_text)
+            else:
+                Path(dom).write_text(str(domain_text))
+                Path(prob).write_text(str(problem_text))
             # the time limit is wall-clock and enforced here: FD's own --overall-time-limit is
             # CPU time rounded down per component (a 1 s limit leaves the translator 0 s).  FD
             # runs in its own process group so the translator and search die with the driver.
