@@ -162,3 +162,28 @@ def test_a_core_keeps_an_update_whose_model_has_a_plan_at_the_bound():
     r = fd.joint(frozenset(), 5, 1, deadline=NO_DEADLINE)
     assert r.status == "infeasible" and r.core == frozenset({(0, False)})
     assert joint_brute(fam, frozenset({0}), 5, 1) == 5
+
+
+def test_a_sas_task_runs_with_and_without_the_driver(monkeypatch):
+    """The search binary reads the SAS+ task on its standard input; where the package ships
+    no binary beside its driver, the driver runs the search on the file: the same answers."""
+    import mega_sat.planners.fast_downward as fdmod
+
+    fam = GroundFamily(
+        atoms=(("p",), ("q",)),
+        n_updates=0,
+        actions=(_action("a", add=(0,), cost=2), _action("b", pre=(0,), add=(1,), cost=3)),
+        init=(),
+        goal=((1, None),),
+    )
+    sas, names = product_sas(((fam.specialize(frozenset()), 1),))
+    blocked, _ = product_sas(((GroundFamily(fam.atoms, 0, fam.actions[1:], (), fam.goal)
+                               .specialize(frozenset()), 1),))  # fmt: skip
+    answers = []
+    for binary in (True, False):
+        if not binary:
+            monkeypatch.setattr(fdmod, "fd_search_binary", lambda: None)
+        r = fd_plan(None, None, sas_text=sas)
+        answers.append((r.status, r.cost, tuple(names[s[0]] for s in r.plan)))
+        assert fd_plan(None, None, sas_text=blocked).status == "unsolvable"
+    assert answers == [("optimal", 5, (("a",), ("b",)))] * 2
