@@ -211,10 +211,12 @@ def sat_frontier(
         answer (None: not installed, switched off, or no proven robot optimum)."""
         if not _by_fd:
             made = None
-            if options.joint_fd and robot_lb is not None and opt_planner._fd_installed():
+            if options.joint_fd and robot_lb is not None:
+                from mega_sat.planners.fast_downward import family_cost_problem, fd_available
                 from mega_sat.planners.joint_fd import JointByFd
 
-                made = JointByFd(family, searcher().robot, robot_lb, options=options)
+                if fd_available() and family_cost_problem(family) is None:
+                    made = JointByFd(family, searcher().robot, robot_lb, options=options)
             _by_fd.append(made)
         return _by_fd[0]
 

@@ -78,8 +78,9 @@ class JointByFd:
         ``keep``.  ``None`` when FD cannot answer (costs that could overflow FD's sums, FD
         failing or out of time): the caller's search answers instead."""
         t0 = time.perf_counter()
+        sel = frozenset(selection)
         try:
-            return self._joint(frozenset(selection), robot_bound, human_optimum, known, keep, deadline, t0)  # fmt: skip
+            return self._joint(sel, robot_bound, human_optimum, known, keep, deadline, t0)
         finally:
             self.time_s += time.perf_counter() - t0
 
