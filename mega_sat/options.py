@@ -278,6 +278,15 @@ class Options:
             "proven optimum, encodings/hitting-set.md); off: the search alone"
         },
     )
+    joint_fd_after_work: int = field(
+        default=20_000,
+        metadata={
+            "zero": True,
+            "doc": "work of the paired-state search (expansions times ground actions) before "
+            "FD takes the call: small searches end sooner than an FD run starts, and their "
+            "cores take one search where FD's take a run per trial (0: FD at once)",
+        },
+    )
     joint_fd_lmcut: bool = field(
         default=False,
         metadata={

@@ -5,13 +5,21 @@ loop's frontiers stay the brute-force ones when FD answers its JOINT calls."""
 from __future__ import annotations
 
 import pytest
+from helpers.bruteforce import brute_force_frontier
 from helpers.fuzzing import oracle_settings
+from helpers.multi_bruteforce import multi_brute_force_frontier
+from helpers.multi_randomtasks import multi_human_tasks, multi_tradeoff_tasks
+from helpers.randomtasks import two_model_tasks
 from helpers.sat_families import agreeing, dijkstra, families, joint_brute, plan_cost, selections
-from hypothesis import assume, given
+from helpers.tradeoff_tasks import tradeoff_tasks
+from hypothesis import HealthCheck, assume, given
 from hypothesis import strategies as st
 
 from mega_sat.deadline import NO_DEADLINE
+from mega_sat.engines.multi_human import multi_frontier
+from mega_sat.engines.sat_loop import sat_frontier
 from mega_sat.ground.family import GroundAction, GroundFamily
+from mega_sat.ground.grounding import ground
 from mega_sat.options import Options
 from mega_sat.planners.fast_downward import fd_available, fd_plan
 from mega_sat.planners.joint_fd import JointByFd
@@ -42,7 +50,7 @@ def test_fd_joint_equals_the_paired_brute_force(fam: GroundFamily, lmcut: bool, 
         known = best_any + data.draw(st.integers(0, 3))
     keep = data.draw(st.frozensets(st.integers(0, max(fam.n_updates - 1, 0)), max_size=2))
     keep = frozenset(i for i in keep if i < fam.n_updates)
-    fd = JointByFd(fam, robot, r_lb, options=Options(joint_fd_lmcut=lmcut))
+    fd = JointByFd(robot, r_lb, family=fam, options=Options(joint_fd_lmcut=lmcut))
     r = fd.joint(sel, rb, c, known=known, keep=keep, deadline=NO_DEADLINE)
     assert r is not None
     best = joint_brute(fam, sel, rb, c)
@@ -109,7 +117,7 @@ def test_costs_past_fd_range_are_left_to_the_search():
         goal=((0, None),),
     )
     robot = fam.specialize(frozenset())
-    fd = JointByFd(fam, robot, big)
+    fd = JointByFd(robot, big, family=fam)
     assert fd.joint(frozenset(), 3 * big, big, deadline=NO_DEADLINE) is None
     assert fd.runs == 0
 
@@ -135,10 +143,10 @@ def test_the_weight_makes_the_order_lexicographic():
     )
     robot = fam.specialize(fam.robot_selection)
     for bound in (10, 12, None):
-        r = JointByFd(fam, robot, 1).joint(frozenset(), bound, 1, deadline=NO_DEADLINE)
+        r = JointByFd(robot, 1, family=fam).joint(frozenset(), bound, 1, deadline=NO_DEADLINE)
         assert r.status == "plan" and (r.robot_cost, r.human_cost) == (10, 1)
         assert r.plan == (("a",),)
-    r = JointByFd(fam, robot, 1).joint(frozenset(), 9, 1, deadline=NO_DEADLINE)
+    r = JointByFd(robot, 1, family=fam).joint(frozenset(), 9, 1, deadline=NO_DEADLINE)
     assert r.status == "infeasible"
 
 
@@ -158,7 +166,7 @@ def test_a_core_keeps_an_update_whose_model_has_a_plan_at_the_bound():
         goal=((0, None),),
     )
     robot = fam.specialize(fam.robot_selection)
-    fd = JointByFd(fam, robot, 5)
+    fd = JointByFd(robot, 5, family=fam)
     r = fd.joint(frozenset(), 5, 1, deadline=NO_DEADLINE)
     assert r.status == "infeasible" and r.core == frozenset({(0, False)})
     assert joint_brute(fam, frozenset({0}), 5, 1) == 5
@@ -187,3 +195,43 @@ def test_a_sas_task_runs_with_and_without_the_driver(monkeypatch):
         answers.append((r.status, r.cost, tuple(names[s[0]] for s in r.plan)))
         assert fd_plan(None, None, sas_text=blocked).status == "unsolvable"
     assert answers == [("optimal", 5, (("a",), ("b",)))] * 2
+
+
+FD_AT_ONCE = Options(joint_fd_after_work=0)
+"""FD takes every JOINT call the paired-state search would answer (by default small searches
+answer themselves, so on these small tasks FD would hardly run)."""
+
+
+@oracle_settings(120, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+@given(st.one_of(two_model_tasks(max_delta=5, allow_zero_cost=True), tradeoff_tasks()))
+def test_frontiers_with_fd_at_once_equal_brute_force(task):
+    """The loop with FD answering its explicit JOINT calls (zero-cost tasks send every call
+    there; with positive costs, --joint search does) gives the brute-force frontier."""
+    fam = ground(task)
+    try:
+        c_r, pts, _ = brute_force_frontier(task, fam, state_limit=20_000)
+    except ValueError:
+        return
+    joint = "portfolio" if fam.min_cost <= 0 else "search"
+    fr = sat_frontier(task, fam, joint=joint, options=FD_AT_ONCE)
+    assert fr.robot_optimal_cost == c_r
+    assert [(p.size, p.robot_cost) for p in fr.points] == [(p.size, p.robot_cost) for p in pts]
+    assert fr.complete and fr.exact
+
+
+@oracle_settings(60, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+@given(st.one_of(multi_human_tasks(allow_zero_cost=True, max_delta=4), multi_tradeoff_tasks()))
+def test_several_humans_with_fd_at_once_equal_brute_force(task):
+    """The several-humans engine with FD answering its product searches (the sum of the
+    human costs at the sum of their optima) gives the brute-force frontier."""
+    fams = [ground(t) for t in task.tasks]
+    try:
+        c_r, pts, _ = multi_brute_force_frontier(task, fams, state_limit=20_000)
+    except ValueError:
+        return
+    fr = multi_frontier(task, fams, options=FD_AT_ONCE)
+    assert fr.robot_optimal_cost == c_r
+    assert [(p.explanation_cost, p.robot_cost) for p in fr.points] == [
+        (p.explanation_cost, p.robot_cost) for p in pts
+    ]
+    assert fr.exact and fr.complete

@@ -138,11 +138,12 @@ def test_the_size_limit_holds_for_the_joint_portfolio_and_the_plan_below_robot()
 @pytest.mark.skipif(not fd_available(), reason="Fast Downward not installed")
 def test_joint_calls_for_the_search_go_to_fast_downward_first():
     """With FD installed, the JOINT calls the paired-state search would answer go to FD on
-    the product task (``joint_fd``); off, the search answers them.  Same frontier, exact."""
+    the product task (``joint_fd``; at once with ``joint_fd_after_work=0``); off, the search
+    answers them.  Same frontier, exact."""
     task = api.load_task_dir(ROOT / "domains/blocksworld/delta/7/p1")
     runs = {}
     for on in (True, False):
-        opts = Options(joint_sat_conflicts=1, joint_fd=on)
+        opts = Options(joint_sat_conflicts=1, joint_fd=on, joint_fd_after_work=0)
         runs[on] = api.MegaSolver(task, joint="sat", options=opts).frontier()
     assert [(p.size, p.robot_cost) for p in runs[True].points] == [
         (p.size, p.robot_cost) for p in runs[False].points

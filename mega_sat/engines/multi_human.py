@@ -38,7 +38,7 @@ from mega_sat.options import DEFAULT, Options
 from mega_sat.pddl.multi_task import MultiHumanTask
 from mega_sat.pddl.update_costs import UpdateCosts, cost_vector, explanation_cost
 from mega_sat.results import Frontier, FrontierPoint, Solution, check_alpha, choose, pareto_filter
-from mega_sat.search.multi import MultiJointSearcher
+from mega_sat.search.multi import MultiJointResult, MultiJointSearcher
 
 ENGINE = "multi-human"
 """The ``engine`` name of results with several human models."""
@@ -176,6 +176,7 @@ def multi_frontier(
         "unsolvable_models": 0,
         "joint_searches": 0,
         "joint_expanded": 0,
+        "joint_by_fd": 0,
         "opt_planners": planners,
     }
     progress.stats = stats
@@ -205,6 +206,15 @@ def multi_frontier(
 
     robot_task = families[0].specialize(families[0].robot_selection)
     searcher = MultiJointSearcher(robot_task)
+    # Fast Downward on the product of the robot's and every human's task, when installed
+    # (encodings/hitting-set.md, "JOINT by Fast Downward on the product task")
+    by_fd = None
+    if options.joint_fd and robot.exact:
+        from mega_sat.planners.fast_downward import family_cost_problem, fd_available
+        from mega_sat.planners.joint_fd import JointByFd
+
+        if fd_available() and all(family_cost_problem(f) is None for f in families):
+            by_fd = JointByFd(robot_task, c_robot, options=options)
     opt_cache: dict[tuple[int, frozenset[int]], Any] = {}
     # per projection tuple: the cheapest joint plan found under the bound of its search, or None
     joint_cache: dict[tuple[frozenset[int], ...], Any] = {}
@@ -272,8 +282,23 @@ def multi_frontier(
         else:
             humans = [families[i].specialize(proj[i]) for i in range(n_humans)]
             stats["joint_searches"] += 1
-            r = searcher.search(humans, bound, [o.cost for o in opts], deadline=deadline)
+            optima = [o.cost for o in opts]
+            fd = by_fd if all(o.exact for o in opts) else None
+            # a search that runs past joint_fd_after_work goes to FD, and back to the search
+            # (without a limit) if FD cannot answer
+            limit = fd.search_nodes if fd is not None else None
+            r = searcher.search(humans, bound, optima, deadline=deadline, node_limit=limit)
             stats["joint_expanded"] += r.expanded
+            if r.status == "nodes":
+                got = fd.several(humans, bound, optima, deadline=deadline)
+                stats["joint_by_fd"] += got is not None
+                if got is None:
+                    r = searcher.search(humans, bound, optima, deadline=deadline)
+                    stats["joint_expanded"] += r.expanded
+                elif got is False:
+                    r = MultiJointResult("none", None, None, None, 0)
+                else:
+                    r = MultiJointResult("plan", got[0], got[1], None, 0)
             if r.status == "limit":
                 stopped(cost_e)
                 break
@@ -317,6 +342,8 @@ def multi_frontier(
         time_s=time.perf_counter() - t0,
         stats={
             **stats,
+            "joint_fd_runs": by_fd.runs if by_fd is not None else 0,
+            "joint_fd_time_s": round(by_fd.time_s, 6) if by_fd is not None else 0.0,
             **{f"human_{i + 1}_{k}": v for i, t in enumerate(tiers) for k, v in t.stats.items()},
         },
         update_costs=update_costs,

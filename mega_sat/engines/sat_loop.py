@@ -216,7 +216,7 @@ def sat_frontier(
                 from mega_sat.planners.joint_fd import JointByFd
 
                 if fd_available() and family_cost_problem(family) is None:
-                    made = JointByFd(family, searcher().robot, robot_lb, options=options)
+                    made = JointByFd(searcher().robot, robot_lb, family=family, options=options)
             _by_fd.append(made)
         return _by_fd[0]
 
@@ -471,8 +471,14 @@ def sat_frontier(
                     ts = causal_support(family, sel, opt.plan)
                     keep = frozenset(i for i, _ in ts)
                     fd = by_fd() if opt.exact else None
-                    got = None
-                    if fd is not None:
+                    # a search past joint_fd_after_work goes to FD, and back to the search
+                    # (without a limit) if FD cannot answer
+                    limit = fd.search_nodes if fd is not None else None
+                    got = search_joint(
+                        searcher(), family, sel, bound, opt.cost, keep=keep, deadline=deadline,
+                        node_limit=limit,
+                    )  # fmt: skip
+                    if got is not None and got.status == Status.LIMIT and fd is not None:
                         # joint plans of human cost c* known so far: pi* if the robot can
                         # run it, and SAT's witness (its human cost is <= c*, so = c*)
                         known = [ground_plan_cost(searcher().robot, opt.plan)]
@@ -483,9 +489,12 @@ def sat_frontier(
                             sel, bound, opt.cost, known=known, keep=keep, deadline=deadline
                         )
                         stats["joint_by_fd"] += got is not None
-                    res = got or search_joint(
-                        searcher(), family, sel, bound, opt.cost, keep=keep, deadline=deadline
-                    )
+                        if got is None:
+                            got = search_joint(
+                                searcher(), family, sel, bound, opt.cost, keep=keep,
+                                deadline=deadline,
+                            )  # fmt: skip
+                    res = got
                     if res is None:
                         raise OracleInterrupted
                     budget.update(joint_seconds[0], time.perf_counter() - t_search)

@@ -16,6 +16,9 @@ single-cost optimal planner answers it:
   robot cost ``x <= K`` costs ``M c + x``, while every plan of human cost ``c + 1`` or more
   costs at least ``M (c + 1) + r > M c + K``.  So the product's optimum is ``M c + x*`` with
   ``x*`` JOINT's answer when one exists within ``K``, and above ``M c + K`` when none does.
+* with several human models (:mod:`mega_sat.engines.multi_human`) the same holds with the sum
+  of their costs and of their optima: every plan's sum is at least the optima's, with
+  equality exactly when each human cost is its model's optimum.
 
 "No joint plan" needs a core for the loop to learn from (``encodings/hitting-set.md``).  It is
 found by deletion on abstractions (:mod:`mega_sat.analysis.abstraction`), one FD run per
@@ -29,11 +32,12 @@ trial that fails keeps its update: the core is always sound, possibly larger tha
 from __future__ import annotations
 
 import time
+from collections.abc import Sequence
 
 from mega_sat.analysis.abstraction import abstract_task
 from mega_sat.deadline import Deadline
 from mega_sat.errors import PlannerError
-from mega_sat.ground.family import GroundFamily, GroundTask
+from mega_sat.ground.family import GroundFamily, GroundTask, PlanStep
 from mega_sat.ground.simulate import ground_plan_cost
 from mega_sat.options import DEFAULT, Options
 from mega_sat.planners.fast_downward import FD_INT_LIMIT, fd_cost_problem, fd_plan
@@ -43,15 +47,16 @@ from mega_sat.status import Status
 
 
 class JointByFd:
-    """JOINT calls of one task answered by Fast Downward (see the module docstring); the robot
-    task and its proven lower bound ``robot_lower_bound`` are fixed for the task."""
+    """JOINT calls of one task answered by Fast Downward (see the module docstring): the robot
+    task and its proven lower bound ``robot_lower_bound`` are fixed for the task; ``family``
+    (the robot's and the human's, for cores) is needed by :meth:`joint` only."""
 
     def __init__(
         self,
-        family: GroundFamily,
         robot: GroundTask,
         robot_lower_bound: int,
         *,
+        family: GroundFamily | None = None,
         options: Options = DEFAULT,
     ):
         self.family = family
@@ -59,6 +64,11 @@ class JointByFd:
         self.r_lb = robot_lower_bound
         self.search = "astar(lmcut())" if options.joint_fd_lmcut else "astar(blind())"
         self.core_trials = options.joint_fd_core_trials
+        # expansions the paired-state search makes before FD takes a call: the
+        # search's heuristic work per expansion grows with the ground actions, while an FD
+        # run costs about the same on small tasks (Options.joint_fd_after_work)
+        work = options.joint_fd_after_work
+        self.search_nodes = 0 if work <= 0 else max(1, work // max(1, len(robot.actions)))
         self.runs = 0
         self.time_s = 0.0
 
@@ -77,29 +87,66 @@ class JointByFd:
         plan of that human cost, if one is known.  A core of "no joint plan" contains
         ``keep``.  ``None`` when FD cannot answer (costs that could overflow FD's sums, FD
         failing or out of time): the caller's search answers instead."""
+        assert self.family is not None, "cores need the family"
         t0 = time.perf_counter()
         sel = frozenset(selection)
+        human = self.family.specialize(sel)
         try:
-            return self._joint(sel, robot_bound, human_optimum, known, keep, deadline, t0)
+            got = self._decide([human], robot_bound, [human_optimum], known, deadline)
+            if got is None:
+                return None
+            plan, rc, k, m = got
+            if plan is not None:
+                return JointResult(
+                    Status.PLAN, plan, rc, human_optimum, None, sel, True, _WHY, 0, self.runs,
+                    time.perf_counter() - t0,
+                )  # fmt: skip
+            core = self._core(sel, k, human_optimum, m, frozenset(keep), deadline)
+            return JointResult(
+                Status.INFEASIBLE, None, None, None, frozenset((i, i in sel) for i in core),
+                sel, True, _WHY, 0, self.runs, time.perf_counter() - t0,
+            )  # fmt: skip
         finally:
             self.time_s += time.perf_counter() - t0
 
-    def _weight(self, limit: int | None) -> int | None:
+    def several(
+        self,
+        humans: Sequence[GroundTask],
+        robot_bound: int | None,
+        optima: Sequence[int],
+        *,
+        deadline: Deadline,
+    ) -> tuple[tuple[PlanStep, ...], int] | None | bool:
+        """One plan for the robot (cost ``<= robot_bound``) and every human task ``i`` at its
+        *proven* optimum ``optima[i]``, of least robot cost: ``(plan, robot cost)``, ``False``
+        when there is none, ``None`` when FD cannot answer."""
+        t0 = time.perf_counter()
+        try:
+            got = self._decide(list(humans), robot_bound, list(optima), None, deadline)
+            if got is None:
+                return None
+            plan, rc, _, _ = got
+            return False if plan is None else (plan, rc)
+        finally:
+            self.time_s += time.perf_counter() - t0
+
+    def _weight(self, limit: int | None, humans: list[GroundTask]) -> int | None:
         """``M`` for the robot cost limit ``K`` (1 for no limit, where the robot cost gets
         weight 0); ``None`` if FD's sums could overflow."""
         m = 1 if limit is None else limit - self.r_lb + 1
-        cost = self.family.max_cost
-        if m < 1 or fd_cost_problem(m * cost + cost, len(self.family.actions)) is not None:
+        costs = [a.cost for t in (self.robot, *humans) for a in t.actions]
+        cost = (m * len(humans) + 1) * max(costs, default=0)
+        if m < 1 or fd_cost_problem(cost, len(self.robot.actions)) is not None:
             return None
         return m
 
-    def _optimum(self, human: GroundTask, m: int, robot_weight: int, deadline: Deadline):
-        """FD's optimum of the product of the robot task and ``human`` under cost ``m * human
-        + robot_weight * robot``: ``(plan, f)``, ``(None, None)`` when it has no plan, or
-        ``None`` when FD did not answer."""
-        if self.robot.goal <= self.robot.init and human.goal <= human.init:
+    def _optimum(self, humans: list[GroundTask], m: int, robot_weight: int, deadline: Deadline):
+        """FD's optimum of the product of the robot task and ``humans`` under cost ``m * (sum
+        of human costs) + robot_weight * robot``: ``(plan, f)``, ``(None, None)`` when it has
+        no plan, or ``None`` when FD did not answer."""
+        if all(t.goal <= t.init for t in (self.robot, *humans)):
             return (), 0  # the empty plan; some planners refuse such tasks
-        sas, names = product_sas(((self.robot, robot_weight), (human, m)))
+        sas, names = product_sas([(self.robot, robot_weight), *((h, m) for h in humans)])
         self.runs += 1
         try:
             r = fd_plan(None, None, search=self.search, deadline=deadline, sas_text=sas)
@@ -113,57 +160,52 @@ class JointByFd:
             return None
         return tuple(names[s[0]] for s in r.plan), r.cost
 
-    def _joint(self, sel, robot_bound, c, known, keep, deadline, t0) -> JointResult | None:
-        human = self.family.specialize(sel)
-
-        def result(status, plan=None, rc=None, hc=None, core=None) -> JointResult:
-            return JointResult(
-                status, plan, rc, hc, core, sel, True, "proven by Fast Downward on the product "
-                "task", 0, self.runs, time.perf_counter() - t0,
-            )  # fmt: skip
-
-        def no_plan(k: int | None, m: int) -> JointResult:
-            core = self._core(sel, k, c, m, frozenset(keep), deadline)
-            return result(Status.INFEASIBLE, core=frozenset((i, i in sel) for i in core))
-
+    def _decide(self, humans, robot_bound, optima, known, deadline):
+        """``(plan, robot cost, K, M)`` with the robot-cheapest plan at every human optimum
+        within ``K``, or ``(None, None, K, M)`` when there is none (``K`` None: at no robot
+        cost); ``None`` when FD cannot answer."""
+        c = sum(optima)
         k = min((x for x in (robot_bound, known) if x is not None), default=None)
         if k is None:
-            # no robot limit yet: the cheapest human cost of any joint plan first (robot
-            # weight 0); above c there is none, at c its plan gives the limit
-            got = self._optimum(human, 1, 0, deadline)
+            # no robot limit yet: the least sum of human costs of any joint plan first (robot
+            # weight 0); above the optima there is none, at them its plan gives the limit
+            got = self._optimum(humans, 1, 0, deadline)
             if got is None:
                 return None
             plan, f = got
             if plan is None or f > c:
-                return no_plan(None, 1)
+                return None, None, None, 1
             k = ground_plan_cost(self.robot, plan)
             assert k is not None, "FD's product plan is no robot plan"
-        m = self._weight(k)
+        m = self._weight(k, humans)
         if m is None:
             return None
-        got = self._optimum(human, m, 1, deadline)
+        got = self._optimum(humans, m, 1, deadline)
         if got is None:
             return None
         plan, f = got
-        if plan is not None and f <= m * c + k:
-            rc = ground_plan_cost(self.robot, plan)
-            hc = ground_plan_cost(human, plan)
-            assert rc is not None and hc == c and rc <= k, "FD's product plan is no joint plan"
-            return result(Status.PLAN, plan, rc, hc)
-        return no_plan(k, m)
+        if plan is None or f > m * c + k:
+            return None, None, k, m
+        rc = ground_plan_cost(self.robot, plan)
+        assert rc is not None and rc <= k, "FD's product plan is no robot plan within K"
+        for h, opt in zip(humans, optima, strict=True):
+            assert ground_plan_cost(h, plan) == opt, "FD's product plan is not human-optimal"
+        return plan, rc, k, m
 
     def _core(self, sel, k: int | None, c: int, m: int, keep: frozenset[int], deadline):
         """Updates fixing which rules out every joint plan within ``k`` (None: any robot
         cost) and ``c``: deletion over the updates outside ``keep`` (all at once first, then
         one at a time, at most ``joint_fd_core_trials`` FD runs), each trial by the
         abstraction's optimum under the weights the call used."""
+        assert self.family is not None
         everything = frozenset(range(self.family.n_updates))
         weight, threshold = (0, m * c) if k is None else (1, m * c + k)
 
         def ruled_out(fixed: frozenset[int]) -> bool:
             if deadline.expired():
                 return False
-            got = self._optimum(abstract_task(self.family, sel, fixed), m, weight, deadline)
+            human = abstract_task(self.family, sel, fixed)
+            got = self._optimum([human], m, weight, deadline)
             return got is not None and (got[0] is None or got[1] > threshold)
 
         candidates = sorted(everything - keep)
@@ -181,3 +223,6 @@ class JointByFd:
             if ruled_out(fixed - {i}):
                 fixed = fixed - {i}
         return fixed
+
+
+_WHY = "proven by Fast Downward on the product task"

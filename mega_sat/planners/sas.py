@@ -22,8 +22,9 @@ from mega_sat.model.lifted import PlanStep
 
 def product_sas(parts: Sequence[tuple[GroundTask, int]]) -> tuple[str, dict[str, PlanStep]]:
     """The product of the ``(task, weight)`` parts as SAS+ text, and a map from operator
-    names back to plan steps.  Operators are matched by family action index; an action adds
-    an atom it also deletes (PDDL's rule).
+    names back to plan steps.  Operators are matched by their ground step (the parts may come
+    from different families: one per human model); an action adds an atom it also deletes
+    (PDDL's rule).
 
     What FD's translator would drop is dropped here too, since every variable costs the
     search per state: operators not reachable in the delete relaxation (over both values of
@@ -39,15 +40,17 @@ def product_sas(parts: Sequence[tuple[GroundTask, int]]) -> tuple[str, dict[str,
         for p in task.init:
             init[off + p] = 0
         goal.update((off + p, 0) for p in task.goal)
-    by_index = [{a.index: a for a in task.actions} for task, _ in parts]
-    shared = sorted(set.intersection(*(set(b) for b in by_index)))
-    ops: list[tuple[int, dict[int, int], dict[int, int], int]] = []  # (index, need, post, cost)
+    by_step = [task.by_step for task, _ in parts]
+    first = parts[0][0].actions
+    shared = [j for j, a in enumerate(first) if all(a.step in b for b in by_step[1:])]
+    ops: list[tuple[int, dict[int, int], dict[int, int], int]] = []  # (number, need, post, cost)
     for j in shared:
+        step = first[j].step
         need: dict[int, int] = {}  # variable -> required value
         post: dict[int, int] = {}  # variable -> value after
         cost = 0
-        for b, off, (_, weight) in zip(by_index, offsets, parts, strict=True):
-            a = b[j]
+        for b, off, (_, weight) in zip(by_step, offsets, parts, strict=True):
+            a = b[step]
             if a.pre & a.negpre:
                 break  # requires an atom and its negation: never applicable
             need.update((off + p, 0) for p in a.pre)
@@ -87,7 +90,7 @@ def product_sas(parts: Sequence[tuple[GroundTask, int]]) -> tuple[str, dict[str,
             continue  # changes nothing a condition or goal reads (costs are >= 0)
         prevail = sorted((new[v], x) for v, x in need.items() if v in new and v not in post)
         name = f"act{j}"
-        names[name] = by_index[0][j].step
+        names[name] = first[j].step
         body += ["begin_operator", name, str(len(prevail))]
         body += [f"{v} {x}" for v, x in prevail]
         body.append(str(len(post)))

@@ -303,6 +303,7 @@ def search_joint(
     keep: frozenset[int] = frozenset(),
     deadline: Deadline = NO_DEADLINE,
     options: Options = DEFAULT,
+    node_limit: int | None = None,
 ) -> JointResult | None:
     """JOINT(E, K, c) by explicit search, as the same :class:`JointResult` as the SAT oracle's.
 
@@ -311,14 +312,22 @@ def search_joint(
     the tight support of ``pi*``), confirmed by a second search whose heuristic is computed on
     the abstraction fixing just those; if that one runs past ``joint_core_factor`` times the
     nodes of the first (at least ``joint_core_min_nodes``), by :func:`infeasibility_core`.
-    Returns ``None`` when ``deadline`` passed before an answer.
+    Returns ``None`` when ``deadline`` passed before an answer, status ``LIMIT`` (nothing
+    proven) when the first search reaches ``node_limit`` expansions.
     """
     t0 = time.perf_counter()
     sel = frozenset(selection)
     everything = frozenset(range(family.n_updates))
     human = abstract_task(family, sel, everything)
     track = CoreTracker(family, sel, searcher._r_masks)
-    r = searcher.search(human, robot_bound, human_bound, deadline=deadline, track=track)
+    r = searcher.search(
+        human, robot_bound, human_bound, node_limit=node_limit, deadline=deadline, track=track
+    )
+    if r.status == Status.LIMIT:
+        return JointResult(
+            Status.LIMIT, None, None, None, None, sel, False, f"node limit {node_limit}", 0, 1,
+            time.perf_counter() - t0, r.expanded,
+        )  # fmt: skip
     if not r.status.decided:
         return None
     if r.status == Status.PLAN:

@@ -34,7 +34,8 @@ _INF = float("inf")
 @dataclass(frozen=True)
 class MultiJointResult:
     """``status``: ``plan`` (a cheapest-robot-cost plan within the bounds), ``none`` (proven:
-    no plan within the bounds) or ``limit`` (the deadline passed: nothing proven)."""
+    no plan within the bounds), ``limit`` (the deadline passed: nothing proven) or ``nodes``
+    (the node limit reached: nothing proven)."""
 
     status: str
     plan: tuple[PlanStep, ...] | None
@@ -81,9 +82,11 @@ class MultiJointSearcher:
         human_bounds: Sequence[int],
         *,
         deadline: Deadline | None = None,
+        node_limit: int | None = None,
     ) -> MultiJointResult:
         """The cheapest-robot-cost plan within the bounds (see the module docstring);
-        ``deadline``: the run's time limit (checked every 64 expansions)."""
+        ``deadline``: the run's time limit (checked every 64 expansions); ``node_limit``: at
+        most that many expansions, then status ``nodes`` (nothing proven)."""
         n = len(humans)
         bounds = tuple(human_bounds)
         h_goals = [sum(1 << p for p in h.goal) for h in humans]
@@ -131,6 +134,8 @@ class MultiJointSearcher:
                 return MultiJointResult("plan", tuple(reversed(steps)), g[0], g[1:], expanded)
             if deadline is not None and expanded % 64 == 0 and deadline.expired():
                 return MultiJointResult("limit", None, None, None, expanded)
+            if node_limit is not None and expanded >= node_limit:
+                return MultiJointResult("nodes", None, None, None, expanded)
             expanded += 1
             for step, (rpre, rneg, rkeep, radd, rc), parts in acts:
                 sr = state[0]
