@@ -272,10 +272,10 @@ class Options:
     joint_fd: bool = field(
         default=True,
         metadata={
-            "doc": "with Fast Downward installed, a JOINT call the paired-state search would "
-            "answer goes to FD first, on the product of the robot task and the model with "
-            "cost M * human cost + robot cost (exact when the human bound is the model's "
-            "proven optimum, encodings/hitting-set.md); off: the search alone"
+            "doc": "with Fast Downward installed, a JOINT call the paired-state search has not "
+            "settled within joint_fd_after_work goes to FD, on the product of the robot task "
+            "and the model with cost M * human cost + robot cost (exact when the human bound "
+            "is the model's proven optimum, encodings/hitting-set.md); off: the search alone"
         },
     )
     joint_fd_after_work: int = field(

@@ -533,6 +533,7 @@ def sat_frontier(
         if deadline.limited:
             orc.deadline = earlier_deadline
     pts = pareto_filter(points)
+    fd_used = _by_fd[0] if _by_fd else None
     return Frontier(
         engine="sat",
         robot_optimal_cost=c_robot,
@@ -552,8 +553,8 @@ def sat_frontier(
             "hitting_set": hitting_set,
             "joint": joint,
             "joint_conflict_budget_final": budget.conflicts,
-            "joint_fd_runs": _by_fd[0].runs if _by_fd and _by_fd[0] else 0,
-            "joint_fd_time_s": round(_by_fd[0].time_s, 6) if _by_fd and _by_fd[0] else 0.0,
+            "joint_fd_runs": fd_used.runs if fd_used else 0,
+            "joint_fd_time_s": round(fd_used.time_s, 6) if fd_used else 0.0,
             "hitting_set_calls": hs.calls,
             **orc.stats.as_dict(),
         },
