@@ -14,10 +14,10 @@ import pytest
 from helpers.bruteforce import brute_force_frontier
 
 from mega_sat.api import frontier
-from mega_sat.errors import MegaSatError
+from mega_sat.errors import MegaSatError, PDDLError
 from mega_sat.ground.grounding import ground
 from mega_sat.model.features import COST
-from mega_sat.pddl.loading import load_task_from_strings
+from mega_sat.pddl.loading import load_task_dir, load_task_from_strings
 from mega_sat.pddl.writer import domain_to_pddl, problem_to_pddl
 
 ROBOT_DOMAIN = """(define (domain deliver)
@@ -135,3 +135,32 @@ def test_a_function_the_human_declares_keeps_its_own_values():
     other = ROBOT_PROBLEM.replace("(= (dist c a) 10)", "(= (dist c a) 1)")
     task = load_task_from_strings(ROBOT_DOMAIN, ROBOT_PROBLEM, human, other)
     assert task.names(task.all_updates) == ["add-has-initial-value-dist c a=10"]
+
+
+def test_an_object_only_the_human_problem_has_is_named_where_it_is_declared(tmp_path):
+    """A human problem with an extra location ``w``: the human's ``(move a w)`` may cost the
+    robot's ``(dist a w)`` under the cost update, and the robot problem, where the distances
+    come from, has no ``w``.  The error names the object's line, not the robot problem."""
+    human_problem = HUMAN_PROBLEM.replace("(:objects a b c - loc", "(:objects a b c\n w - loc")
+    human_problem = human_problem.replace(ROADS, ROADS + " (road a w) (road w a)")
+    files = {
+        "robot-domain.pddl": ROBOT_DOMAIN,
+        "robot-problem.pddl": ROBOT_PROBLEM,
+        "human-domain.pddl": HUMAN_DOMAIN,
+        "human-problem.pddl": human_problem,
+    }
+    for name, text in files.items():
+        (tmp_path / name).write_text(text)
+    task = load_task_dir(tmp_path)
+    with pytest.raises(PDDLError) as info:
+        ground(task)
+    assert str(info.value) == (
+        f"{tmp_path / 'human-problem.pddl'}: line 3: object 'w' is declared only in this "
+        "problem, and the cost of (move a w) in the robot's model is (dist a w), which has no "
+        f"value: declare 'w' in {tmp_path / 'robot-problem.pddl'} too and give "
+        "(= (dist a w) N) in :init"
+    )
+    # read from strings, the same message without a line
+    task = load_task_from_strings(ROBOT_DOMAIN, ROBOT_PROBLEM, HUMAN_DOMAIN, human_problem)
+    with pytest.raises(PDDLError, match=r"human problem: object 'w' is declared only in this"):
+        ground(task)

@@ -370,8 +370,12 @@ def test_errors_name_the_file_they_are_about(tmp_path):
         run("solve", "--robot-domain", tmp_path / "d.pddl", "--robot-problem", problem,
             "--human-domain", tmp_path / "d.pddl", "--alpha", "1")
     )  # fmt: skip
-    assert line.startswith(f"error: {problem}: cost function value (dist ")
-    assert "is not defined in the problem" in line
+    # the line of the problem's :init, where the value is missing
+    lines = problem.read_text().splitlines()
+    init_line = next(n for n, text in enumerate(lines, 1) if "(:init" in text)
+    assert line.startswith(f"error: {problem}: line {init_line}: cost function value (dist ")
+    assert "is not defined: the cost of (move " in line
+    assert "and :init gives it no value (add (= (dist " in line
 
 
 def test_small_input_slips(tmp_path):

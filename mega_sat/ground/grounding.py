@@ -373,20 +373,24 @@ def _sorted_args(rows: set[tuple[str, ...]], index_of: dict[str, int]) -> list[t
 
 
 def _eval_cost(
-    cost: int | CostTerm, binding: Mapping[str, str], task: TwoModelTask, guards: _Guards
+    cost: int | CostTerm,
+    binding: Mapping[str, str],
+    task: TwoModelTask,
+    guards: _Guards,
+    schema: Schema | None = None,
+    side: str = "",
 ) -> list[CostCase]:
     """Cost cases of one cost expression: a function term's value is the robot's when its
-    FVALUE update is selected and the human's otherwise (both models define the same terms)."""
+    FVALUE update is selected and the human's otherwise (both models define the same terms).
+    ``schema`` (whose grounding this is) and ``side`` (whose cost it is) are for the message
+    when the term has no value."""
     if isinstance(cost, int):
         return [((), cost)]
     term = tuple(binding.get(x, x) for x in cost)
     rv, hv = task.robot.functions.get(term), task.human.functions.get(term)
     if rv is None and hv is None:
-        raise PDDLError(
-            f"cost function value {atom_pddl(term)} is not defined in the problem "
-            "(its :init needs (= " + atom_pddl(term) + " N))",
-            path=task.sources.get("robot_problem"),
-        )
+        step = () if schema is None else (schema.name, *(binding[p] for p in schema.params))
+        raise _undefined_value(term, task, step, side)
     if rv is None or hv is None or rv == hv:
         v = rv if rv is not None else hv
         assert v is not None
@@ -395,6 +399,43 @@ def _eval_cost(
     if i is None:
         raise AssertionError(f"function value {atom_pddl(term)} differs but is not in Delta")
     return [(((i, True),), rv), (((i, False),), hv)]
+
+
+def _undefined_value(
+    term: CostTerm, task: TwoModelTask, step: tuple[str, ...], side: str
+) -> PDDLError:
+    """The error for a cost term with a value in neither problem, at the place to mend it.
+
+    The common cause in a model written by someone else is an object that only the human
+    problem declares: the human's groundings with it may cost a value of a function whose
+    values come from the robot problem (or from both, which must give the same terms), and
+    there the object does not exist.  That object's declaration is the place named then;
+    otherwise the robot problem's ``:init``, where the value is missing.
+    """
+    from mega_sat.pddl.loading import line_in_file  # an error path: loading reads the file
+
+    shown = atom_pddl(term)
+    whose = f"in the {side}'s model " if side else ""
+    needs = f"the cost of ({' '.join(step)}) {whose}is {shown}" if step else f"{shown} is needed"
+    robot_problem = task.sources.get("robot_problem")
+    for o in term[1:]:
+        if o in task.human.objects and o not in task.robot.objects:
+            path = task.sources.get("human_problem")
+            line = line_in_file(path, "object", (o,))
+            return PDDLError(
+                f"object '{o}' is declared only in this problem, and {needs}, which has no "
+                f"value: declare '{o}' in {robot_problem or 'the robot problem'} too and give "
+                f"(= {shown} N) in :init",
+                path=path,
+                where=None if line is None else f"line {line}",
+            )
+    line = line_in_file(robot_problem, "init", ())
+    return PDDLError(
+        f"cost function value {shown} is not defined: {needs}, and :init gives it no value "
+        f"(add (= {shown} N))",
+        path=robot_problem,
+        where=None if line is None else f"line {line}",
+    )
 
 
 def _cost_cases(
@@ -411,12 +452,15 @@ def _cost_cases(
         if i is None:
             raise AssertionError(f"cost of {name} differs but is not in Delta")
         cases: list[CostCase] = []
-        for lit, s in (((i, True), rs), ((i, False), hs)):
-            cases.extend(((lit, *g), v) for g, v in _eval_cost(s.cost, binding, task, guards))
+        for lit, s, side in (((i, True), rs, "robot"), ((i, False), hs, "human")):
+            cases.extend(
+                ((lit, *g), v) for g, v in _eval_cost(s.cost, binding, task, guards, s, side)
+            )
     else:
         s = rs if rs is not None else hs
         assert s is not None
-        cases = _eval_cost(s.cost, binding, task, guards)
+        side = "" if rs is not None and hs is not None else "robot" if rs is not None else "human"
+        cases = _eval_cost(s.cost, binding, task, guards, s, side)
     if len({v for _, v in cases}) == 1:  # same value in every case: no dependency
         return (((), cases[0][1]),)
     return tuple(cases)

@@ -138,9 +138,23 @@ def task_from_texts(texts: dict[str, str], names: dict[str, str]) -> TwoModelTas
         raise ModelMismatchError(e.message, path=names[role], where=f"line {line}") from None
 
 
+def line_in_file(path: str | None, kind: str, key: tuple[str, ...]) -> int | None:
+    """:func:`_line_of` for a PDDL file named by a model's ``sources`` entry; None when there
+    is no such file (a model read from strings) or the place is not found.  For errors found
+    after loading, such as in grounding, whose input no longer carries the text."""
+    if path is None or not Path(path).is_file():
+        return None
+    try:
+        text = Path(path).read_text(encoding="utf-8", errors="replace")
+    except OSError:
+        return None
+    return _line_of(text, kind, key)
+
+
 def _line_of(text: str, kind: str, key: tuple[str, ...]) -> int | None:
-    """The line where ``text`` (PDDL) declares the action or predicate ``key`` or gives the
-    cost function value ``key`` (``kind``: action, predicate or value); None if not found."""
+    """The line where ``text`` (PDDL) declares the action or predicate ``key``, gives the cost
+    function value ``key``, declares the object ``key`` or opens ``:init`` (``kind``: action,
+    predicate, value, object or init); None if not found."""
     from mega_sat.pddl.sexpr import normalise_text
 
     text = normalise_text(text)
@@ -150,6 +164,13 @@ def _line_of(text: str, kind: str, key: tuple[str, ...]) -> int | None:
     elif kind == "predicate":
         start = max(text.find(":predicates"), 0)
         pattern = r"\(\s*" + re.escape(key[0]) + r"(?=[\s()])"
+    elif kind == "object":
+        start = text.find(":objects")
+        if start < 0:
+            return None
+        pattern = r"(?<![^\s()])" + re.escape(key[0].lower()) + r"(?=[\s()])"
+    elif kind == "init":
+        pattern = r"\(\s*:init(?=[\s()])"
     else:
         pattern = r"\(\s*=\s*\(\s*" + r"\s+".join(map(re.escape, key)) + r"\s*\)"
     m = re.compile(pattern).search(text, start)
