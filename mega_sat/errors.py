@@ -109,6 +109,12 @@ class PDDLError(MegaSatError):
     """Malformed PDDL, or PDDL that uses a construct mega-sat does not support."""
 
 
+class FamilyNotCompiled(PDDLError):  # noqa: N818 - a PDDLError, named for its cause
+    """Each model alone is fine, but the family of all ``human + E`` cannot be written with
+    one-literal guards (a negative goal's complement would need two updates at once).
+    Commands about one model ground that model alone instead; the others report it."""
+
+
 class ModelMismatchError(MegaSatError):
     """Robot and human models that cannot form one model family (e.g. different arities).
 

@@ -11,15 +11,18 @@ from __future__ import annotations
 
 import heapq
 import itertools
+import json
 from dataclasses import replace
 
 import pytest
+from click.testing import CliRunner
 from helpers.fuzzing import oracle_settings
 from helpers.randomtasks import applicable_steps, ground_atoms, two_model_tasks
 from hypothesis import assume, given
 from hypothesis import strategies as st
 
 from mega_sat.api import frontier
+from mega_sat.cli.commands import main
 from mega_sat.engines.sat_loop import sat_frontier
 from mega_sat.errors import PDDLError, UnsolvableError
 from mega_sat.ground.grounding import complement_atom, ground
@@ -275,6 +278,63 @@ def test_an_add_and_a_delete_under_two_updates_is_one_clear_error():
     )
     with pytest.raises(PDDLError, match=r"action \(shift a\) .*cannot compile$"):
         ground(task)
+
+
+def test_commands_about_one_model_ground_it_alone_when_the_family_is_refused(tmp_path):
+    """``plan`` and ``verify`` need one model of the family, which is plain STRIPS on its own:
+    they take the refused family's models one at a time, and agree with the lifted reference
+    on every selection.  The engines still refuse the family."""
+    human = MOVE_DOMAIN.replace("(and (not (on ?x)) (on ?y) (increase", "(and (increase")
+    for name, text in (
+        ("robot-domain.pddl", MOVE_DOMAIN),
+        ("robot-problem.pddl", MOVE_PROBLEM),
+        ("human-domain.pddl", human),
+    ):
+        (tmp_path / name).write_text(text)
+    task = load_task_from_strings(MOVE_DOMAIN, MOVE_PROBLEM, human)
+    with pytest.raises(PDDLError, match="cannot compile"):
+        ground(task)
+
+    def cli(*args):
+        return CliRunner().invoke(main, [*args, "--task", str(tmp_path)])
+
+    r = cli("plan", "--json")
+    assert r.exit_code == 0, r.output
+    assert json.loads(r.output)["cost"] == _optimum(task.robot) == 3
+    for k in range(len(task.delta) + 1):
+        for sel in itertools.combinations(range(len(task.delta)), k):
+            lines = "".join(task.delta[i].name + "\n" for i in sel)
+            (tmp_path / "e.txt").write_text(lines)
+            r = cli("plan", "--json", "--model", "human", "--explanation", str(tmp_path / "e.txt"))
+            optimum = _optimum(task.updated_model(sel))
+            if optimum is None:
+                assert r.exit_code == 3 and "has no plan" in r.output
+                continue
+            assert r.exit_code == 0, r.output
+            got = json.loads(r.output)
+            assert got["cost"] == optimum and got["exact"]
+            # the plan is optimal in human + E: verify passes it, and fails a dearer one
+            (tmp_path / "p.plan").write_text("".join(f"{s}\n" for s in got["plan"]))
+            in_robot = simulate(
+                task.robot, [tuple(x.strip("()").split()) for x in got["plan"]]
+            ).valid
+            r = cli(
+                "verify",
+                "--explanation",
+                str(tmp_path / "e.txt"),
+                "--plan",
+                str(tmp_path / "p.plan"),
+            )
+            assert r.exit_code == (0 if in_robot else 1), r.output
+            assert "ok   optimal in human + E" in r.output
+    # with the delete alone, (move-light a a) switches a off for 1; (off a) costs 5
+    deletes = [u.name for u in task.delta if "delete-effect" in u.name]
+    (tmp_path / "e.txt").write_text(deletes[0] + "\n")
+    (tmp_path / "p.plan").write_text("(off a)\n")
+    r = cli("verify", "--explanation", str(tmp_path / "e.txt"), "--plan", str(tmp_path / "p.plan"))
+    assert r.exit_code == 1 and "FAIL optimal in human + E: optimum of human + E" in r.output
+    r = cli("frontier")
+    assert r.exit_code == 2 and "cannot compile" in r.output
 
 
 def test_negative_goals_are_written_back_and_read_again(tmp_path):

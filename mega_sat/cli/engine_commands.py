@@ -20,7 +20,7 @@ from mega_sat.cli.app import (
     quiet_option,
     task_options,
 )
-from mega_sat.cli.model_commands import _ground, _read_explanation
+from mega_sat.cli.model_commands import _ground_member, _read_explanation
 from mega_sat.deadline import TimeLimitReached
 from mega_sat.errors import (
     EXIT_FAILED,
@@ -559,11 +559,11 @@ def verify(run, explanation, plan_file, checker, update_costs, as_json, verbose,
     costs = cost_vector(task, costs)
     sel = _read_explanation(task, explanation)
     steps = read_plan(plan_file)
-    fam = _ground(task, run, verbose)
+    member, _, fam = _ground_member(task, sel, run, verbose)
     try:
         rep = verify_pair(
             task,
-            fam,
+            fam if member is task else None,
             sel,
             steps,
             producer="sat",
@@ -571,6 +571,7 @@ def verify(run, explanation, plan_file, checker, update_costs, as_json, verbose,
             deadline=run.deadline,
             update_costs=costs,
             options=options,
+            alone=None if member is task else (member, fam),
         )
     except ChecksCutShort as stop:
         # the checks finished before the limit are part of the answer: in JSON as objects of

@@ -137,6 +137,25 @@ def _ground(task, run, verbose=False):
     return fam
 
 
+def _ground_member(task, sel, run, verbose=False):
+    """``(task, sel, family)`` for a command about the one model ``sel`` of ``task``: the
+    family of every ``human + E`` as usual, or that model grounded alone when the family
+    cannot be compiled (then ``sel`` is the new family's one member, ``frozenset()``)."""
+    from mega_sat.errors import FamilyNotCompiled
+    from mega_sat.ground.grounding import ground_member
+
+    try:
+        return task, sel, _ground(task, run, verbose)
+    except FamilyNotCompiled:
+        run.deadline.check()
+        member, fam = ground_member(task, sel)
+        if verbose:
+            click.echo(
+                f"; the model alone (the family cannot be compiled): {fam.describe()}", err=True
+            )
+        return member, frozenset(), fam
+
+
 @main.command()
 @click.option("--domain", type=click.Path(), default=None)
 @click.option("--problem", type=click.Path(), default=None)
@@ -175,17 +194,17 @@ def plan(run, domain, problem, model, explanation, planner, out, force, as_json,
     if out:
         check_target(out, force=force)  # before planning, not after
     task, sel = _single_or_family(domain, problem, kw, model, explanation)
-    fam = _ground(task, run, verbose)
-    if planner is None:  # the library's default, as for the frontier's models
-        from mega_sat.engines.sat_loop import default_planner
-
-        planner = default_planner("sat", fam)
-    r = NodePlanner(task, fam, planner, deadline=run.deadline, options=options).optimal(sel)
     where = problem or (
         task.sources.get("robot_problem")
         if sel == task.all_updates
         else task.sources.get("human_problem")
     )
+    task, sel, fam = _ground_member(task, sel, run, verbose)
+    if planner is None:  # the library's default, as for the frontier's models
+        from mega_sat.engines.sat_loop import default_planner
+
+        planner = default_planner("sat", fam)
+    r = NodePlanner(task, fam, planner, deadline=run.deadline, options=options).optimal(sel)
     if r.status == "unsolvable":
         raise UnsolvableError("the problem has no plan (proven by " + planner + ")", path=where)
     if r.status != "optimal":

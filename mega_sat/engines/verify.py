@@ -201,7 +201,7 @@ def _not_an_action(model, plan) -> str | None:
 
 def verify_pair(
     task: TwoModelTask,
-    family: GroundFamily,
+    family: GroundFamily | None,
     selection: frozenset[int],
     plan: Sequence[PlanStep],
     *,
@@ -215,8 +215,13 @@ def verify_pair(
     update_costs: tuple[int, ...] | None = None,
     explanation_cost: int | None = None,
     options: Options = DEFAULT,
+    alone: tuple[TwoModelTask, GroundFamily] | None = None,
 ) -> VerifyReport:
     """Check one answer; ``robot_cost``/``human_cost``, when given, must match the simulation.
+
+    ``alone``: ``human + E`` as a task of its own and its family
+    (:func:`~mega_sat.ground.grounding.ground_member`), for the optimum when ``family`` (then
+    unused, may be None) cannot be compiled.
 
     ``update_costs`` (one per update): the report states cost(E) under them, and a reported
     ``explanation_cost``, when given, must equal it.
@@ -264,10 +269,15 @@ def verify_pair(
                 f"reported {human_cost}, simulated {sim_h.cost}",
             )
         )
-    kind = checker or checker_for(producer, family)
-    checker = NodePlanner(task, family, kind, oracles=oracles, deadline=deadline, options=options)
+    opt_task, opt_family, opt_sel = (task, family, frozenset(selection))
+    if alone is not None:
+        opt_task, opt_family, opt_sel = (*alone, frozenset())
+    kind = checker or checker_for(producer, opt_family)
+    checker = NodePlanner(
+        opt_task, opt_family, kind, oracles=oracles, deadline=deadline, options=options
+    )
     try:
-        opt = checker.optimal(frozenset(selection))
+        opt = checker.optimal(opt_sel)
     except TimeLimitReached as e:
         # the checks done so far are finished answers (even when the backstop timer cut the
         # planner short): say them rather than nothing at all

@@ -29,7 +29,7 @@ from itertools import groupby, product
 from operator import itemgetter
 from typing import Protocol
 
-from mega_sat.errors import PDDLError
+from mega_sat.errors import FamilyNotCompiled, PDDLError
 from mega_sat.ground.family import CostCase, Entry, GroundAction, GroundFamily, GroundTask, Guard
 from mega_sat.model.features import (
     ADD,
@@ -745,7 +745,7 @@ def _complement_negative_goals(
                     if len(set(act.args)) < len(act.args)
                     else ""
                 )
-                raise PDDLError(
+                raise FamilyNotCompiled(
                     f"negative goal (not {atom_pddl(names[p])}): action "
                     f"({' '.join((act.name, *act.args))}) both adds and deletes that atom under "
                     f"two different updates, which mega-sat cannot compile{hint}",
@@ -774,6 +774,23 @@ def _complement_negative_goals(
             extra_init.append((comp[p], (i, not v)))
     extra_goal = [(comp[p], g) for p, g in negative.items()]
     return out, init + tuple(extra_init), goal + tuple(extra_goal)
+
+
+def ground_member(
+    task: TwoModelTask, selection: frozenset[int]
+) -> tuple[TwoModelTask, GroundFamily]:
+    """``human + selection`` (the robot's model for every update) as a task of its own and its
+    ground family, which has no updates: for a command about one model when the family of all
+    of them cannot be compiled (:class:`~mega_sat.errors.FamilyNotCompiled`).  Its one member
+    is ``frozenset()``."""
+    if selection == task.all_updates:
+        model, side = task.robot, "robot"
+    else:
+        model, side = task.updated_model(selection), "human"
+    files = {k: task.sources.get(f"{side}_{k}") for k in ("domain", "problem")}
+    sources = {f"{who}_{k}": v for who in ("robot", "human") for k, v in files.items() if v}
+    member = TwoModelTask.from_models(model, model, sources=sources)
+    return member, ground(member)
 
 
 def ground_model(model: Model) -> GroundTask:
