@@ -410,7 +410,8 @@ def _undefined_value(
     problem declares: the human's groundings with it may cost a value of a function whose
     values come from the robot problem (or from both, which must give the same terms), and
     there the object does not exist.  That object's declaration is the place named then;
-    otherwise the robot problem's ``:init``, where the value is missing.
+    otherwise the ``:init`` of the problem that holds the function's values (the robot's,
+    unless only the human's domain declares the function), where the value is missing.
     """
     from mega_sat.pddl.loading import line_in_file  # an error path: loading reads the file
 
@@ -429,11 +430,14 @@ def _undefined_value(
                 path=path,
                 where=None if line is None else f"line {line}",
             )
-    line = line_in_file(robot_problem, "init", ())
+    # a function only the human's domain declares has its values in the human problem
+    own = "robot" if term[0] in task.robot.function_arities else "human"
+    path = task.sources.get(f"{own}_problem")
+    line = line_in_file(path, "init", ())
     return PDDLError(
         f"cost function value {shown} is not defined: {needs}, and :init gives it no value "
         f"(add (= {shown} N))",
-        path=robot_problem,
+        path=path,
         where=None if line is None else f"line {line}",
     )
 
