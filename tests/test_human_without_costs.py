@@ -164,3 +164,26 @@ def test_an_object_only_the_human_problem_has_is_named_where_it_is_declared(tmp_
     task = load_task_from_strings(ROBOT_DOMAIN, ROBOT_PROBLEM, HUMAN_DOMAIN, human_problem)
     with pytest.raises(PDDLError, match=r"human problem: object 'w' is declared only in this"):
         ground(task)
+
+
+def test_a_function_only_the_human_declares_prices_the_human_moves():
+    """The other way round: the human believes moves cost their distances, the robot's cost
+    1.  The distances are the human's own beliefs, which no update reaches; the cost update
+    alone brings the robot's unit cost."""
+    robot = HUMAN_DOMAIN  # no costs: every action costs 1
+    task = load_task_from_strings(robot, HUMAN_PROBLEM, ROBOT_DOMAIN, ROBOT_PROBLEM)
+    assert task.names(task.all_updates) == [
+        "remove-pick-has-precondition-pkg-at ?p ?l",
+        "add-move-has-cost-1",
+    ]
+    assert not task.robot.functions and task.human.functions[("dist", "a", "c")] == 10
+    c_r, pts, _ = brute_force_frontier(task, ground(task))
+    fr = frontier(task)
+    assert fr.exact and fr.robot_optimal_cost == c_r == 4
+    assert _pairs(fr.points) == _pairs(pts) == [(0, 6), (1, 5), (2, 4)]
+    # the updated human model is written with its distances and read back as the same model
+    updated = task.updated_model(frozenset({1}))
+    assert updated.schema_cost(updated.schemas["move"], ("a", "c")) == 1
+    domain, problem = domain_to_pddl(updated), problem_to_pddl(updated)
+    again = load_task_from_strings(robot, HUMAN_PROBLEM, domain, problem)
+    assert again.names(again.all_updates) == ["remove-pick-has-precondition-pkg-at ?p ?l"]

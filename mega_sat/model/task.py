@@ -49,7 +49,9 @@ def align_human(
 
     A cost function the human's domain does not declare (a human model written without the
     robot's costs) takes the robot problem's values: the human holds no values of it to differ
-    from, and a cost update that brings its term to the human needs them.
+    from, and a cost update that brings its term to the human needs them.  One only the
+    human's domain declares keeps the human problem's values, which only the human's own
+    costs use.
 
     Raises :class:`ModelMismatchError` on a schema or predicate of different arity.  The
     ``*_name`` arguments name the files in messages (problem names default to the domain
@@ -72,7 +74,10 @@ def align_human(
                 f"but {n} in {human_name}",
                 anchor=("human_domain", "predicate", (p,)),
             )
-    for term in set(robot.functions) ^ set(human.functions):
+    # a function only the human's domain declares prices only the human's schemas: its values
+    # are the human's beliefs, which no update can reach (the robot holds none to give)
+    shared = set(robot.function_arities) & set(human.function_arities)
+    for term in sorted(t for t in set(robot.functions) ^ set(human.functions) if t[0] in shared):
         if term in robot.functions:
             role, side = (
                 "robot_problem",
