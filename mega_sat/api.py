@@ -146,7 +146,7 @@ class MegaSolver:
     def planner(self) -> str:
         """The optimal planner for candidate models (given, or :func:`default_planner`)."""
         if self._planner is None:
-            self._planner = default_planner(self.engine, self.family)
+            self._planner = default_planner(self.engine, self.family, self.options)
         return self._planner
 
     @property

@@ -402,6 +402,17 @@ class Options:
             "(both cores; POSIX only); false: the two take turns in one process"
         },
     )
+    fd_from_actions: int = field(
+        default=400,
+        metadata={
+            "doc": "ground actions from which the sat engine's default OPT planner is Fast "
+            "Downward instead of the portfolio, when FD is installed and costs are positive: "
+            "SAT's encoding grows with actions times steps, and on such families the race "
+            "can leave a model undecided that FD's astar(lmcut()) settles in seconds "
+            "(bench/README.md; 0: never)",
+            "zero": True,
+        },
+    )
     race_fd_after_work: int = field(
         default=0,
         metadata={

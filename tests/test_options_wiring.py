@@ -287,3 +287,30 @@ def test_options_in_code_are_checked_like_the_cli_option(knob):
 
 def test_zero_is_kept_for_the_knobs_that_take_it():
     assert Options(race_fd_after_work=0, plan_below_robot_nodes=0).race_fd_after_work == 0
+
+
+@pytest.mark.skipif(not fd_available(), reason="Fast Downward not installed")
+def test_large_families_default_to_fast_downward():
+    """``fd_from_actions``: at and above that many ground actions the sat engine's default OPT
+    planner is FD; below it, with the knob at 0, for zero-cost actions and for the astar
+    engine, the defaults stay.  The answers are the same."""
+    from mega_sat.engines.sat_loop import default_planner
+
+    task = api.load_task_dir(USAR)
+    fam = api.MegaSolver(task).family
+    n = len(fam.actions)
+    at = Options(fd_from_actions=n)
+    assert default_planner("sat", fam, at) == "fd"
+    assert default_planner("sat", fam, Options(fd_from_actions=n + 1)) == "portfolio"
+    assert default_planner("sat", fam, Options(fd_from_actions=0)) == "portfolio"
+    assert default_planner("sat", fam) == "portfolio"  # the shipped suites stay below it
+    assert default_planner("astar", fam, at) == "builtin"
+    small = api.MegaSolver(task, options=at)
+    assert small.planner == "fd"
+    pairs = [[(len(p.explanation), p.robot_cost) for p in s.frontier().points] for s in (
+        small, api.MegaSolver(task))]  # fmt: skip
+    assert pairs[0] == pairs[1] and small.frontier().exact
+    res = CliRunner().invoke(
+        main, ["plan", "--task", str(USAR), "--json", "--option", f"fd_from_actions={n}"]
+    )
+    assert res.exit_code == 0 and json.loads(res.output)["planner"] == "fd"

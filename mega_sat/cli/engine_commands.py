@@ -66,7 +66,7 @@ def engine_options(fn):
             help="Optimal planner for candidate models: per-node planner of astar, "
             "OPT oracle of sat; portfolio = builtin racing sat, the first to decide "
             "answers.  [default: builtin for astar; portfolio for the sat engine, "
-            "builtin if some action costs 0]",
+            "builtin if some action costs 0, fd from fd_from_actions ground actions]",
         ),
         click.option(
             "--joint",
@@ -442,7 +442,7 @@ def frontier(run, as_json, do_verify, write_model, force, verbose, plot=None, **
     type=PLANNER,
     default=None,
     help="Optimal planner for the robot plan and the candidate models.  [default: portfolio, "
-    "builtin if some action costs 0]",
+    "builtin if some action costs 0, fd from fd_from_actions ground actions]",
 )
 @click.option("--hitting-set", type=HITTING, default="rc2", show_default=True)
 @update_costs_option

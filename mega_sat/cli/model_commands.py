@@ -176,7 +176,8 @@ def _ground_member(task, sel, run, verbose=False):
     "--planner",
     type=PLANNER,
     default=None,
-    help="Optimal planner.  [default: portfolio, builtin if some action costs 0]",
+    help="Optimal planner.  [default: portfolio, builtin if some action costs 0, fd from "
+    "fd_from_actions ground actions]",
 )
 @click.option("--out", "out", type=click.Path(), default=None, help="Write the plan file.")
 @click.option("--force", is_flag=True, help="Overwrite --out.")
@@ -203,7 +204,7 @@ def plan(run, domain, problem, model, explanation, planner, out, force, as_json,
     if planner is None:  # the library's default, as for the frontier's models
         from mega_sat.engines.sat_loop import default_planner
 
-        planner = default_planner("sat", fam)
+        planner = default_planner("sat", fam, options)
     r = NodePlanner(task, fam, planner, deadline=run.deadline, options=options).optimal(sel)
     if r.status == "unsolvable":
         raise UnsolvableError("the problem has no plan (proven by " + planner + ")", path=where)

@@ -116,12 +116,11 @@ def selections_by_cost(costs: Sequence[int]) -> Iterator[frozenset[int]]:
             )
 
 
-def _default_planner(family: GroundFamily) -> str:
-    """As for one human model: the SAT OPT oracle, or the built-in planner when some action
-    costs 0 (where the SAT oracle's horizon argument proves nothing)."""
+def _default_planner(family: GroundFamily, options: Options = DEFAULT) -> str:
+    """As for one human model (:func:`mega_sat.engines.sat_loop.default_planner`)."""
     from mega_sat.engines.sat_loop import default_planner
 
-    return default_planner("sat", family)
+    return default_planner("sat", family, options)
 
 
 def multi_frontier(
@@ -154,7 +153,7 @@ def multi_frontier(
     weighted = update_costs is not None
     progress.start(ENGINE, tuple(u.name for u in task.delta), update_costs)
     n_humans = len(task.tasks)
-    planners = [planner or _default_planner(f) for f in families]
+    planners = [planner or _default_planner(f, options) for f in families]
     tiers = []
     for t, fam, kind in zip(task.tasks, families, planners, strict=True):
         orc = None
@@ -500,7 +499,9 @@ class MultiHumanSolver:
             steps = as_plan(plan)
             sel = self.task.selection_from_names(explanation or [])
             rc, hcs, reported = None, None, None
-        producers = [producer or self._planner or _default_planner(f) for f in self.families]
+        producers = [
+            producer or self._planner or _default_planner(f, self.options) for f in self.families
+        ]
         return verify_multi(
             self.task,
             self.families,

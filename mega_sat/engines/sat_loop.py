@@ -43,14 +43,21 @@ from mega_sat.search.joint import JointSearcher, search_joint
 from mega_sat.status import Status
 
 
-def default_planner(engine: str, family: GroundFamily) -> str:
+def default_planner(engine: str, family: GroundFamily, options: Options = DEFAULT) -> str:
     """``builtin`` for ``astar`` (the paper's per-node planner) and for tasks with zero-cost
-    actions; else ``portfolio``: explicit search and the SAT OPT oracle in turns.  Neither
-    wins everywhere (SAT by an order of magnitude on some shipped instances, explicit search
-    by as much on others, bench/README.md), and the race costs at most a small factor over
-    the better one."""
+    actions; ``fd`` for families of at least ``options.fd_from_actions`` ground actions when
+    Fast Downward is installed; else ``portfolio``: explicit search and the SAT OPT oracle in
+    turns.  Neither side of the race wins everywhere (SAT by an order of magnitude on some
+    shipped instances, explicit search by as much on others, bench/README.md), and the race
+    costs at most a small factor over the better one, as long as one of them can decide the
+    models; on large ground families neither may, where FD's C++ search does."""
     if engine != "sat" or family.min_cost <= 0:
         return "builtin"
+    if options.fd_from_actions and len(family.actions) >= options.fd_from_actions:
+        from mega_sat.planners.fast_downward import family_cost_problem, fd_available
+
+        if fd_available() and family_cost_problem(family) is None:
+            return "fd"
     return "portfolio"
 
 
@@ -107,7 +114,7 @@ def sat_frontier(
     cost is then their sum instead of |E| (the hitting set minimises it), and the frontier is
     over (cost(E), robot cost).
     """
-    planner = default_planner("sat", family) if planner is None else planner
+    planner = default_planner("sat", family, options) if planner is None else planner
     joint = default_joint(family) if joint is None else joint
     if joint not in JOINT_METHODS:
         from mega_sat.errors import UsageError
