@@ -380,6 +380,29 @@ def test_object_declared_twice_names_its_line():
         parse_model(dom, prob, domain_path="d.pddl", problem_path="p.pddl")
 
 
+@pytest.mark.parametrize("section", [":metric", ":goal", ":init", ":objects"])
+def test_a_problem_section_given_twice_is_named(section):
+    """A stored IPC problem repeats its ``(:metric ...)``; the library's message was "syntax
+    error: unexpected '('" at the second one."""
+    dom = (DATA / "cost-domain.pddl").read_text()
+    prob = (DATA / "cost-problem.pddl").read_text()
+    body = prob.rstrip()
+    assert body.endswith(")")
+    start = prob.index(f"({section}")
+    depth, end = 0, start
+    for end in range(start, len(prob)):
+        depth += {"(": 1, ")": -1}.get(prob[end], 0)
+        if depth == 0:
+            break
+    twice = body[:-1] + "\n" + prob[start : end + 1] + ")\n"
+    line = twice.count("\n", 0, twice.rindex(f"({section}")) + 1
+    with pytest.raises(PDDLError) as info:
+        parse_model(dom, twice, domain_path="d.pddl", problem_path="p.pddl")
+    assert str(info.value) == (
+        f"p.pddl: line {line}: a second ({section} ...) section: a problem has one"
+    )
+
+
 def test_cost_function_values_must_be_non_negative_integers():
     dom = (DATA / "cost-domain.pddl").read_text()
     prob = (DATA / "cost-problem.pddl").read_text().replace("a b) 3)", "a b) 3.5)")

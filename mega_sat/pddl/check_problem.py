@@ -42,7 +42,11 @@ class ProblemChecker(Checker):
         drop: list[SList] = []
         objects: dict[str, str] = dict(info.constants)
         saw_init = saw_goal = False
+        seen: set[str] = set()
         for key, node in self.sections(root):
+            if key in seen:  # which one counts would be a guess; PDDL has one of each
+                raise self.fail(f"a second ({key} ...) section: a problem has one", node)
+            seen.add(key)
             if key == ":domain":
                 named = node.items[1] if len(node.items) == 2 else None
                 if isinstance(named, Tok) and named.text != info.name:
