@@ -77,7 +77,8 @@ class MegaSolver:
 
     Defaults (``None``, see :func:`default_planner`): ``astar`` uses ``builtin``; ``sat`` uses
     SAT for both OPT and JOINT, unless some action costs 0, where the horizon argument fails
-    and ``builtin`` with ``portfolio`` keep the answers exact.
+    and ``builtin`` with ``portfolio`` keep the answers exact; OPT on families of at least
+    ``Options.fd_from_actions`` ground actions goes to Fast Downward when it is installed.
 
     ``timeout`` (seconds) is one time limit for everything the solver does from its creation
     on: grounding, the encodings, every call and every search, SAT call and subprocess within
