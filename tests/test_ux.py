@@ -438,3 +438,22 @@ def test_a_time_limit_while_drawing_keeps_the_frontier(tmp_path, monkeypatch):
     assert d["frontier"] and d["complete"] is False
     assert any("while drawing: --plot not written" in n for n in d["notes"])
     assert not target.exists()
+
+
+def test_generate_names_a_robot_problem_without_a_plan(tmp_path):
+    """The robot's problem is the file to mend, so the error names it, as ``plan`` does."""
+    domain = ROOT / "domains" / "usar-fetch" / "robot-domain.pddl"
+    problem = (USAR / "robot-problem.pddl").read_text()
+    # a waypoint no road leads to: the robot can never be there
+    problem = problem.replace("(:goal (and", "(:goal (and (robot_at p9)").replace(
+        "p8 - waypoint", "p8 p9 - waypoint"
+    )
+    (tmp_path / "p.pddl").write_text(problem)
+    res = run(
+        "generate", "--robot-domain", domain, "--robot-problem", tmp_path / "p.pddl",
+        "--delta", "2", "--out", tmp_path / "out",
+    )  # fmt: skip
+    assert res.exit_code == 3
+    assert res.output.strip() == (
+        f"error: {tmp_path / 'p.pddl'}: the robot problem has no plan; nothing to generate from"
+    )

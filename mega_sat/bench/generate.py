@@ -105,12 +105,16 @@ def generate_human(
     max_attempts: int = 200,
     time_limit: float = 30.0,
     time_budget: float = DEFAULT_TIME_BUDGET,
+    source: str | None = None,
 ) -> Generated:
     """A human model with ``|Delta| == k`` against ``robot``, both problems solvable.
 
-    ``time_limit`` bounds each planner call, ``time_budget`` the whole generation, the robot's
-    own optimal plan included (a large ``k`` makes most draws unsolvable, and 200 draws at 30 s
-    each would look like a hang).
+    ``time_limit`` bounds each draw's planner call, ``time_budget`` the whole generation, the
+    robot's own optimal plan included (a large ``k`` makes most draws unsolvable, and 200 draws
+    at 30 s each would look like a hang).  The robot's plan may take the whole budget, and
+    Fast Downward, when installed, answers for it once blind search gives up: only its
+    existence is used, so the drawn models do not depend on which planner found it.
+    ``source`` names the robot problem in messages.
 
     A candidate ``Update(f, True)`` above means "the robot has f and the human will not"
     (a removal from the human's view); ``Update(f, False)`` "the human will believe f".
@@ -118,7 +122,6 @@ def generate_human(
     from mega_sat.errors import PDDLError
     from mega_sat.ground.grounding import ground, ground_model
     from mega_sat.model.task import TwoModelTask
-    from mega_sat.search.astar import solve_optimal
 
     if k < 0:
         raise UsageError(f"--delta must be >= 0, got {k}")
@@ -127,19 +130,16 @@ def generate_human(
     # the budget covers the robot's own plan too: a user who gave 5 s waits about 5 s
     deadline = time.perf_counter() + time_budget
     rt = ground_model(robot)
-    limit = max(0.0, min(time_limit, deadline - time.perf_counter()))
-    r = solve_optimal(rt, time_limit=limit)
+    r = _optimal(robot, deadline)
     if r.status == "unsolvable":
-        raise UnsolvableError("the robot problem has no plan; nothing to generate from")
-    if r.status != "optimal" and limit < time_limit:
-        raise UsageError(
-            f"no solvable human model with |Delta| = {k} found within {time_budget:g}s (the "
-            f"robot problem's optimal plan was still being searched; seed {seed})"
+        raise UnsolvableError(
+            "the robot problem has no plan; nothing to generate from", path=source
         )
     if r.status != "optimal":
         raise UsageError(
-            f"no plan of the robot problem found within {limit:g}s; "
-            "cannot check that generated models stay solvable"
+            f"no solvable human model with |Delta| = {k} found within {time_budget:g}s (the "
+            f"robot problem's optimal plan was still being searched; seed {seed})",
+            path=source,
         )
     # the model's own atoms, without the complement atoms grounding adds for negative goals
     reachable = frozenset(a for a in rt.atoms if a[0] in robot.predicates)
@@ -167,10 +167,10 @@ def generate_human(
             # a dropped precondition can make an action reachable whose cost term the
             # problem leaves undefined (elevators' travel tables): that draw is no task
             ground(task)
-            human_task = ground_model(human)
+            ground_model(human)
         except PDDLError:
             continue
-        h = solve_optimal(human_task, time_limit=min(time_limit, left))
+        h = _optimal(human, deadline, min(time_limit, left))
         if h.status == "timeout" and left < time_limit:
             # cut short by the budget, not by its own limit: stop here rather than move on to
             # the next draw, so that a found instance never depends on the machine's speed
@@ -185,6 +185,28 @@ def generate_human(
         f"no solvable human model with |Delta| = {k} found in {max_attempts} "
         f"seeded draws (seed {seed})"
     )
+
+
+def _optimal(model: Model, deadline: float, time_limit: float | None = None):
+    """``model``'s optimal plan by the built-in planner (blind search, then Fast Downward when
+    installed, else LM-cut), within the generation's budget (``deadline``, a
+    :func:`time.perf_counter` value) and ``time_limit`` seconds; ``TIMEOUT`` past either.
+    Blind search and FD answer by work, not by the clock, so a draw they decide is decided
+    alike on every machine."""
+    from mega_sat.deadline import Deadline, TimeLimitReached
+    from mega_sat.ground.grounding import ground
+    from mega_sat.model.task import TwoModelTask
+    from mega_sat.planners.node_planner import NodePlanner
+    from mega_sat.search.astar import PlanResult
+    from mega_sat.status import Status
+
+    task = TwoModelTask.from_models(model, model)
+    until = Deadline(deadline, max(0.0, deadline - time.perf_counter()))
+    planner = NodePlanner(task, ground(task), "builtin", deadline=until, time_limit=time_limit)
+    try:
+        return planner.optimal(frozenset())
+    except TimeLimitReached:
+        return PlanResult(Status.TIMEOUT, None, None, False, "builtin", 0.0)
 
 
 def write_instance(
@@ -216,7 +238,7 @@ def write_instance(
         "human-problem.pddl",
     ):
         check_target(out / name, force=overwrite)  # before the draws, not after
-    g = generate_human(robot, k, seed, time_budget=time_budget)
+    g = generate_human(robot, k, seed, time_budget=time_budget, source=str(robot_problem))
     try:
         out.mkdir(parents=True, exist_ok=True)
         write_model(
