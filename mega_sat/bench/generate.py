@@ -120,7 +120,7 @@ def generate_human(
     (a removal from the human's view); ``Update(f, False)`` "the human will believe f".
     """
     from mega_sat.errors import PDDLError
-    from mega_sat.ground.grounding import ground, ground_model
+    from mega_sat.ground.grounding import ground
     from mega_sat.model.task import TwoModelTask
 
     if k < 0:
@@ -129,8 +129,10 @@ def generate_human(
         raise UsageError(f"--time-budget must be a number of seconds >= 0, got {time_budget}")
     # the budget covers the robot's own plan too: a user who gave 5 s waits about 5 s
     deadline = time.perf_counter() + time_budget
-    rt = ground_model(robot)
-    r = _optimal(robot, deadline)
+    robot_alone = TwoModelTask.from_models(robot, robot)
+    robot_family = ground(robot_alone)
+    rt = robot_family.specialize(frozenset())
+    r = _optimal(robot_alone, robot_family, deadline)
     if r.status == "unsolvable":
         raise UnsolvableError(
             "the robot problem has no plan; nothing to generate from", path=source
@@ -167,10 +169,11 @@ def generate_human(
             # a dropped precondition can make an action reachable whose cost term the
             # problem leaves undefined (elevators' travel tables): that draw is no task
             ground(task)
-            ground_model(human)
+            human_alone = TwoModelTask.from_models(human, human)
+            human_family = ground(human_alone)
         except PDDLError:
             continue
-        h = _optimal(human, deadline, min(time_limit, left))
+        h = _optimal(human_alone, human_family, deadline, min(time_limit, left))
         if h.status == "timeout" and left < time_limit:
             # cut short by the budget, not by its own limit: stop here rather than move on to
             # the next draw, so that a found instance never depends on the machine's speed
@@ -187,22 +190,19 @@ def generate_human(
     )
 
 
-def _optimal(model: Model, deadline: float, time_limit: float | None = None):
-    """``model``'s optimal plan by the built-in planner (blind search, then Fast Downward when
-    installed, else LM-cut), within the generation's budget (``deadline``, a
-    :func:`time.perf_counter` value) and ``time_limit`` seconds; ``TIMEOUT`` past either.
-    Blind search and FD answer by work, not by the clock, so a draw they decide is decided
-    alike on every machine."""
+def _optimal(task, family, deadline: float, time_limit: float | None = None):
+    """The optimal plan of one model (``task``, a model paired with itself, and its ground
+    ``family``) by the built-in planner (blind search, then Fast Downward when installed, else
+    LM-cut), within the generation's budget (``deadline``, a :func:`time.perf_counter` value)
+    and ``time_limit`` seconds; ``TIMEOUT`` past either.  Blind search and FD answer by work,
+    not by the clock, so a draw they decide is decided alike on every machine."""
     from mega_sat.deadline import Deadline, TimeLimitReached
-    from mega_sat.ground.grounding import ground
-    from mega_sat.model.task import TwoModelTask
     from mega_sat.planners.node_planner import NodePlanner
     from mega_sat.search.astar import PlanResult
     from mega_sat.status import Status
 
-    task = TwoModelTask.from_models(model, model)
     until = Deadline(deadline, max(0.0, deadline - time.perf_counter()))
-    planner = NodePlanner(task, ground(task), "builtin", deadline=until, time_limit=time_limit)
+    planner = NodePlanner(task, family, "builtin", deadline=until, time_limit=time_limit)
     try:
         return planner.optimal(frozenset())
     except TimeLimitReached:
