@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 
 from mega_sat.analysis.relaxation import RelaxedTask
 from mega_sat.ground.family import GroundAction, GroundFamily
-from mega_sat.search.greedy import greedy_plan
+from mega_sat.search.greedy import greedy_plan, greedy_search
 
 _INF = float("inf")
 
@@ -30,6 +30,23 @@ def test_a_plan_wherever_brute_force_finds_one(fam: GroundFamily, data):
         assert plan is not None
         cost = plan_cost(task, [a.step for a in plan])
         assert cost is not None and cost >= best
+
+
+@oracle_settings(150, suppress_health_check=())
+@given(fam=families(max_atoms=5, max_actions=7), data=st.data(), budget=st.integers(1, 40))
+def test_no_plan_only_when_brute_force_finds_none(fam: GroundFamily, data, budget):
+    """``greedy_search`` says "no plan" (False) only for models brute force finds unsolvable,
+    and says it for each of them once its budget covers the whole state space; a budget that
+    runs out first gives ``None`` (nothing proven)."""
+    task = fam.specialize(data.draw(selections(fam.n_updates)))
+    best = dijkstra(task)
+    got = greedy_search(task, budget)
+    if got is False:
+        assert best is None
+    elif got is not None:
+        assert best is not None and plan_cost(task, [a.step for a in got]) is not None
+    if best is None:
+        assert greedy_search(task, 2 + 2 ** len(task.atoms)) is False
 
 
 @oracle_settings(150, suppress_health_check=())
@@ -59,6 +76,7 @@ def _chain(n: int) -> GroundFamily:
 def test_the_budget_counts_evaluations_and_a_short_one_finds_nothing():
     task = _chain(6).specialize(frozenset())
     assert greedy_plan(task, 3) is None  # proves nothing: the plan needs 7 evaluations
+    assert greedy_search(task, 3) is None
     plan = greedy_plan(task, 8)
     assert [a.name for a in plan] == [f"step{i}" for i in range(6)]
 
@@ -97,6 +115,7 @@ def test_a_deleted_atom_is_gone_from_the_successor():
         ((2, None),),
     )
     assert greedy_plan(fam.specialize(frozenset()), 100) is None
+    assert greedy_search(fam.specialize(frozenset()), 100) is False  # every state expanded
 
 
 def test_an_expired_deadline_ends_the_search():
@@ -104,4 +123,5 @@ def test_an_expired_deadline_ends_the_search():
 
     task = _chain(6).specialize(frozenset())
     assert greedy_plan(task, 100, Deadline.after(1, elapsed=2)) is None  # expired
+    assert greedy_search(task, 100, Deadline.after(1, elapsed=2)) is None  # proves nothing
     assert greedy_plan(task, 100, Deadline.after(60)) is not None
