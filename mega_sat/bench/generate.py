@@ -204,11 +204,9 @@ def _has_plan(
     A greedy best-first search on h_add (:mod:`mega_sat.search.greedy`, ``greedy_evaluations``
     heuristic evaluations) finds a plan of most solvable models in a fraction of a second,
     where an optimal planner may need minutes on a large model, and proves a small model
-    unsolvable by running out of states.  What it leaves
-    open, the built-in optimal planner decides: blind search, then Fast Downward when
-    installed, else LM-cut.  Both
-    answer by work, not by the clock, so a draw they decide is decided alike on every
-    machine."""
+    unsolvable by running out of states.  What it leaves open, the built-in optimal planner
+    decides: blind search, then Fast Downward when installed, else LM-cut.  Both answer by
+    work, not by the clock, so a draw they decide is decided alike on every machine."""
     from mega_sat.deadline import Deadline, TimeLimitReached
     from mega_sat.planners.node_planner import NodePlanner
     from mega_sat.search.greedy import greedy_search

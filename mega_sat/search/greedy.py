@@ -12,6 +12,7 @@ solvable models fast but exhausts every state of an unsolvable one
 from __future__ import annotations
 
 import heapq
+from typing import Literal
 
 from mega_sat.analysis.relaxation import RelaxedTask
 from mega_sat.deadline import NO_DEADLINE, Deadline
@@ -34,7 +35,7 @@ def greedy_plan(
 
 def greedy_search(
     task: GroundTask, evaluations: int, deadline: Deadline = NO_DEADLINE
-) -> tuple[StripsAction, ...] | bool | None:
+) -> tuple[StripsAction, ...] | Literal[False] | None:
     """:func:`greedy_plan`, telling apart the two ways it finds no plan: ``False`` when the
     search has expanded every state reachable without passing a dead end (a state whose h_add
     is infinite: not even the delete relaxation reaches the goal from it), which proves that
