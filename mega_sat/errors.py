@@ -119,8 +119,8 @@ class ModelMismatchError(MegaSatError):
     """Robot and human models that cannot form one model family (e.g. different arities).
 
     ``anchor`` says where the cause is written, for a reader of the files to give its line:
-    the file's role (``human_domain``, ...), what it is (``action``, ``predicate`` or
-    ``value``) and its name or term."""
+    the file's role (``human_domain``, ...), what it is (``action``, ``predicate``,
+    ``function`` or ``value``) and its name or term."""
 
     def __init__(
         self,

@@ -155,3 +155,42 @@ def test_task_dir_errors(tmp_path):
     assert "no human-domain.pddl in the task directory or its parent" in msg
     assert str(task_dir / "human-domain.pddl") in msg
     assert str(tmp_path / "human-domain.pddl") in msg
+
+
+@pytest.mark.parametrize("human_has", ["function", "predicate"])
+def test_a_name_that_is_a_predicate_in_one_model_and_a_function_in_the_other(tmp_path, human_has):
+    """PDDL has one name space for predicates and functions: `apply` would write a model that
+    declares ``dist`` twice (VAL crashes on it), so the pair is refused at load, with the
+    line of the human domain's declaration."""
+    as_predicate = """(define (domain d) (:requirements :strips :action-costs)
+  (:predicates (at ?x) (road ?x ?y) (dist ?x ?y))
+  (:functions (total-cost) - number)
+  (:action go :parameters (?x ?y) :precondition (and (at ?x) (road ?x ?y))
+    :effect (and (at ?y) (not (at ?x)) (increase (total-cost) 1))))"""
+    as_function = """(define (domain d) (:requirements :strips :action-costs)
+  (:predicates (at ?x) (road ?x ?y))
+  (:functions (total-cost) - number
+              (dist ?x ?y) - number)
+  (:action go :parameters (?x ?y) :precondition (and (at ?x) (road ?x ?y))
+    :effect (and (at ?y) (not (at ?x)) (increase (total-cost) (dist ?x ?y)))))"""
+    values = "(= (dist a b) 2) (= (dist b c) 3)"
+    robot, human = (as_predicate, as_function)
+    if human_has == "predicate":
+        robot, human = human, robot
+    for name, text in (("robot-domain", robot), ("human-domain", human)):
+        (tmp_path / f"{name}.pddl").write_text(text)
+        init = values if text is as_function else "(dist a b)"
+        (tmp_path / f"{name.replace('domain', 'problem')}.pddl").write_text(
+            f"(define (problem p) (:domain d) (:objects a b c)\n"
+            f"  (:init (at a) (road a b) (road b c) {init})\n"
+            "  (:goal (at c)) (:metric minimize (total-cost)))"
+        )
+    with pytest.raises(ModelMismatchError) as info:
+        load_task(**resolve_task_dir(tmp_path))
+    line = 2 if human_has == "predicate" else 4
+    other = "function" if human_has == "predicate" else "predicate"
+    assert str(info.value) == (
+        f"{tmp_path / 'human-domain.pddl'}: line {line}: 'dist' is a {human_has} in "
+        f"{tmp_path / 'human-domain.pddl'} but a {other} in {tmp_path / 'robot-domain.pddl'} "
+        "(a name stands for one kind of symbol in both models; rename one of them)"
+    )

@@ -57,6 +57,20 @@ def align_human(
     ``*_name`` arguments name the files in messages (problem names default to the domain
     names with 'domain' replaced by 'problem').
     """
+    # PDDL has one name space for predicates and functions: a model written with both (by
+    # `apply`, or for VAL and Fast Downward) would declare the name twice
+    for name in sorted(
+        (set(robot.predicates) & set(human.function_arities))
+        | (set(robot.function_arities) & set(human.predicates))
+    ):
+        here, there = (
+            ("predicate", "function") if name in human.predicates else ("function", "predicate")
+        )
+        raise ModelMismatchError(
+            f"'{name}' is a {here} in {human_name} but a {there} in {robot_name} (a name "
+            "stands for one kind of symbol in both models; rename one of them)",
+            anchor=("human_domain", here, (name,)),
+        )
     unknown = {f: n for f, n in robot.function_arities.items() if f not in human.function_arities}
     if unknown:
         human = replace(

@@ -152,17 +152,17 @@ def line_in_file(path: str | None, kind: str, key: tuple[str, ...]) -> int | Non
 
 
 def _line_of(text: str, kind: str, key: tuple[str, ...]) -> int | None:
-    """The line where ``text`` (PDDL) declares the action or predicate ``key``, gives the cost
-    function value ``key``, declares the object ``key`` or opens ``:init`` (``kind``: action,
-    predicate, value, object or init); None if not found."""
+    """The line where ``text`` (PDDL) declares the action, predicate or function ``key``,
+    gives the cost function value ``key``, declares the object ``key`` or opens ``:init``
+    (``kind``: action, predicate, function, value, object or init); None if not found."""
     from mega_sat.pddl.sexpr import normalise_text
 
     text = normalise_text(text)
     start = 0
     if kind == "action":
         pattern = r"\(\s*:action\s+" + re.escape(key[0]) + r"(?=[\s()])"
-    elif kind == "predicate":
-        start = max(text.find(":predicates"), 0)
+    elif kind in ("predicate", "function"):
+        start = max(text.find(f":{kind}s"), 0)
         pattern = r"\(\s*" + re.escape(key[0]) + r"(?=[\s()])"
     elif kind == "object":
         start = text.find(":objects")
