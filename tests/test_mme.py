@@ -211,6 +211,22 @@ def test_hidden_trap_tells_mme_from_mce():
     assert s.explain().explanation == ()
 
 
+def test_a_passed_deadline_stops_the_superset_search_at_its_next_expansion():
+    """Each expansion of ``cheaper_superset`` passes over every action and takes h^max of the
+    successors; on large families a few hundred take seconds, so the deadline is looked at
+    on each one (``explain --mme --timeout`` then ends on time)."""
+    from mega_sat.deadline import Deadline, TimeLimitReached
+
+    task = hidden_trap()
+    fam = ground(task)
+    plan = (("move", "s", "x"), ("move", "x", "y"), ("move", "y", "g"))
+    counter: dict[str, int] = {}
+    assert cheaper_superset(fam, plan, frozenset(), NO_DEADLINE, counter) is not None
+    assert 0 < counter["expanded"] < 256
+    with pytest.raises(TimeLimitReached):
+        cheaper_superset(fam, plan, frozenset(), Deadline.after(1, elapsed=2))
+
+
 def _cost_trap(robot_costs: dict[str, int], human_costs: dict[str, int]) -> TwoModelTask:
     from mega_sat.model.lifted import Model, Schema
 
