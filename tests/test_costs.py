@@ -255,6 +255,18 @@ def test_opt_and_joint_past_the_horizon_cap_are_answered_by_search():
         assert "horizon cap" in j.reason and orc.stats.joint_by_search == 1
 
 
+def test_joint_past_the_horizon_cap_leaves_a_sized_call_to_its_caller():
+    """A JOINT call given ``max_action_steps`` comes from a caller with its own explicit
+    search and Fast Downward hand-over (the sat engine's loop): past the cap it is left
+    undecided, as past the size limit, instead of searching in the oracle without FD."""
+    fam = _there_and_back(101, 10**12)
+    with bounded(120), SatOracles(fam, operator_counting=False) as orc:
+        j = orc.joint(frozenset(), None, 10**12, max_action_steps=12_000)
+        assert j.status == "limit" and not j.exact and not j.status.decided
+        assert "horizon cap" in j.reason and not orc.stats.joint_by_search
+        assert orc.stats.solver_calls == 0  # no SAT call at the capped horizon either
+
+
 @SETTINGS
 @given(fam=large_cost_families(max_atoms=3, max_actions=5, max_updates=4), data=st.data())
 def test_joint_with_large_costs_matches_paired_search(fam: GroundFamily, data):

@@ -155,6 +155,10 @@ class JointOracle:
                     "action costs the human less than the robot",
                 )
         if not exact and orc.c_min > 0 and sel is not None:
+            if max_action_steps:
+                # as past the size limit: the caller's explicit search answers, and hands a
+                # long search to Fast Downward on the product task, which this one cannot
+                return done(Status.LIMIT, why=f"{reason}: no SAT call")
             return self._by_search(sel, robot_bound, human_bound, reason, t0)
         sel_lits = enc.lits_assumptions(lits)
         robot_task = orc.task(orc.family.robot_selection)
