@@ -163,6 +163,11 @@ class Problem:
     goal: set
 
 
+def _text(x) -> str:
+    """An s-expression as PDDL text, for messages."""
+    return x if isinstance(x, str) else "(" + " ".join(_text(y) for y in x) + ")"
+
+
 def read_domain(path):
     d = sexpr(_read(path))
     name = d[1][1]
@@ -193,6 +198,11 @@ def read_domain(path):
                         if lit[0] == "not":
                             a.dele.add(tuple(lit[1]))
                         elif lit[0] == "increase":
+                            if isinstance(lit[2], list) or not lit[2].isdigit():
+                                raise ValueError(
+                                    f"{path}: action {a.name}: cost {_text(lit[2])} is not a "
+                                    "constant; this checker reads constant action costs only"
+                                )
                             a.cost = int(lit[2])
                         else:
                             a.add.add(tuple(lit))
@@ -212,6 +222,11 @@ def read_problem(path):
         elif k == ":init":
             p.init = {tuple(a) for a in sec[1:] if a[0] != "="}
         elif k == ":goal":
+            for a in conj(sec[1]):
+                if a[0] == "not":
+                    raise ValueError(
+                        f"{path}: negative goal {_text(a)}; this checker reads positive goals only"
+                    )
             p.goal = {tuple(a) for a in conj(sec[1])}
     return p
 
