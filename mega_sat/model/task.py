@@ -59,10 +59,12 @@ def align_human(
     """
     # PDDL has one name space for predicates and functions: a model written with both (by
     # `apply`, or for VAL and Fast Downward) would declare the name twice
-    for name in sorted(
+    clashes = sorted(
         (set(robot.predicates) & set(human.function_arities))
         | (set(robot.function_arities) & set(human.predicates))
-    ):
+    )
+    if clashes:
+        name = clashes[0]
         here, there = (
             ("predicate", "function") if name in human.predicates else ("function", "predicate")
         )
