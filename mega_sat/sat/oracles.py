@@ -240,7 +240,10 @@ class SatOracles:
         ``LIMIT`` (nothing proven; ``plan`` is the best witness found so far, if any).
         ``max_action_steps`` (``None``: no limit) caps the size of the encoding SAT may use:
         a call that needs SAT at a horizon ``h`` with ground actions times ``h`` above it has
-        status ``LIMIT`` at once, before the encoding grows to ``h``.
+        status ``LIMIT`` at once, before the encoding grows to ``h``.  Given, it also marks a
+        caller with an explicit search of its own (the sat engine's loop): a call whose exact
+        horizon is past ``horizon_cap`` is then ``LIMIT`` too, instead of being answered by
+        this oracle's paired-state search.
         """
         sel = frozenset(selection)
         lits = [(i, i in sel) for i in range(self.family.n_updates)]
