@@ -4,6 +4,8 @@ negative preconditions, atoms no action changes, node limits and states wider th
 
 from __future__ import annotations
 
+import numpy as np
+import pytest
 from helpers.fuzzing import oracle_settings
 from hypothesis import given
 from hypothesis import strategies as st
@@ -159,3 +161,115 @@ def test_reachability_resumed_in_steps_is_one_run(task, limits):
             assert verdict == one
     assert reach.run() == one and reach.expanded == expanded
     assert reach.run(0) == one  # decided: asked again, the same answer
+
+
+@pytest.mark.parametrize("goal", [{69}, {3, 69}], ids=["end", "behind-and-end"])
+def test_reachability_on_states_of_two_words(goal):
+    """A token moved forward along 70 atoms from the sixth; each atom is a precondition, so
+    states take two words.  The token reaches the end, never two places at once, and never
+    goes back: the second goal is proven unsolvable after the 65 states from the sixth atom
+    on, as the search proves it."""
+    n = 70
+    acts = tuple(
+        StripsAction(i, f"step{i}", (), frozenset({i}), frozenset(), frozenset({i + 1}),
+                     frozenset({i}), 1)
+        for i in range(n - 1)
+    )  # fmt: skip
+    atoms = tuple((f"p{i}",) for i in range(n))
+    task = GroundTask(atoms, acts, frozenset({5}), frozenset(goal))
+    verdict, expanded = goal_reachable(task)
+    if goal == {69}:
+        assert verdict == Status.PLAN
+    else:
+        init = sum(1 << p for p in task.init)
+        full, _ = _run(_python_uniform_cost_steps(task, init, sum(1 << p for p in goal)))
+        assert verdict == Status.UNSOLVABLE and expanded == full[3] == n - 5
+
+
+@st.composite
+def wide_tasks(draw) -> GroundTask:
+    """Random STRIPS tasks over 65-90 atoms that every action may change, so that the
+    relevant part's states take two words."""
+    n = draw(st.integers(65, 90))
+    atom = st.integers(0, n - 1)
+    sets = st.frozensets(atom, max_size=3)
+    acts = []
+    for i in range(draw(st.integers(n // 2, n + 20))):
+        pre = draw(st.frozensets(atom, min_size=1, max_size=2))
+        acts.append(
+            StripsAction(i, f"a{i}", (), pre, frozenset(), draw(sets), draw(sets), 1)
+        )  # fmt: skip
+    init = draw(st.frozensets(atom, min_size=1, max_size=n // 2))
+    goal = draw(st.frozensets(atom, min_size=1, max_size=3))
+    return GroundTask(tuple((f"p{i}",) for i in range(n)), tuple(acts), init, goal)
+
+
+@oracle_settings(100, suppress_health_check=())
+@given(wide_tasks(), st.lists(st.sampled_from([20, 200, 2000]), min_size=1, max_size=2))
+def test_hashed_states_give_the_exact_verdict_and_count(task, limits):
+    """States of two words are keyed by a 64-bit hash: the same verdicts and counts as keying
+    them by their bytes (resumed with growing limits), and as the search once decided."""
+    hashed = Reachability(task)
+    exact = Reachability(task, hashed=False)
+    for limit in sorted(limits):
+        assert hashed.run(limit) == exact.run(limit)
+        assert hashed.expanded == exact.expanded
+    if hashed.verdict is not None:  # decided within the limit: a small search decides too
+        part = relevant_part(task)
+        init = sum(1 << p for p in part.init)
+        goal = sum(1 << p for p in part.goal)
+        full, _ = _run(_python_uniform_cost_steps(part, init, goal))
+        assert (hashed.verdict == Status.PLAN) == (full[0] == Status.OPTIMAL)
+        if hashed.verdict == Status.UNSOLVABLE:
+            assert hashed.expanded == full[3]
+
+
+@pytest.mark.parametrize("weak", [lambda s: s[:, 0] % np.uint64(3), lambda s: s[:, 1] * 0])
+def test_colliding_hashes_fall_back_to_exact_keys(monkeypatch, weak):
+    """With a hash that maps many states to one key, the search notices the first collision
+    and starts again with exact keys: the verdict and count stay those of the exact search."""
+    from mega_sat.search import vector_search
+
+    n = 70
+    acts = tuple(
+        StripsAction(i, f"step{i}", (), frozenset({i}), frozenset(), frozenset({i + 1}),
+                     frozenset({i}), 1)
+        for i in range(n - 1)
+    )  # fmt: skip
+    task = GroundTask(tuple((f"p{i}",) for i in range(n)), acts, frozenset({5}), frozenset({3, 69}))
+    exact = Reachability(task, hashed=False)
+    monkeypatch.setattr(vector_search, "row_hashes", weak)
+    reach = Reachability(task)
+    assert reach.run(10) == exact.run(10) == Status.LIMIT and reach.expanded == exact.expanded
+    assert reach.run() == exact.run() == Status.UNSOLVABLE
+    assert reach.expanded == exact.expanded == n - 5
+
+
+def test_two_new_states_with_one_key_are_both_kept(monkeypatch):
+    """The two successors of the initial state share a key under a weak hash, and only the
+    second leads to the goal: the collision inside the layer is noticed (no closed state has
+    that key), so the goal is still found."""
+    from mega_sat.search import vector_search
+
+    n = 70
+
+    def act(i, name, pre, add):
+        return StripsAction(i, name, (), frozenset({pre}), frozenset(), frozenset({add}),
+                            frozenset({pre}), 1)  # fmt: skip
+
+    # p1 is a dead end (d also needs p2), but a relevant one: both successors are states
+    both = StripsAction(3, "d", (), frozenset({1, 2}), frozenset(), frozenset({3}),
+                        frozenset(), 1)  # fmt: skip
+    acts = [act(0, "a", 0, 1), act(1, "b", 0, 2), act(2, "c", 2, n - 1), both]
+    acts += [act(len(acts) + k - 3, f"step{k}", k, k + 1) for k in range(3, n - 1)]
+    task = GroundTask(tuple((f"p{i}",) for i in range(n)), tuple(acts), frozenset({0}),
+                      frozenset({n - 1}))  # fmt: skip
+
+    def weak(states):
+        keys = states[:, 0] ^ (states[:, 1] << np.uint64(32))
+        keys[(states[:, 0] & np.uint64(6)) != 0] = 6  # p1 and p2 (bits 1 and 2 of word 0)
+        return keys
+
+    monkeypatch.setattr(vector_search, "row_hashes", weak)
+    assert vector_search._Layout(relevant_part(task), list(range(len(acts)))).n_words == 2
+    assert goal_reachable(task)[0] == Status.PLAN

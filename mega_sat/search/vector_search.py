@@ -263,36 +263,134 @@ def goal_reachable(
     return reach.run(node_limit, deadline), reach.expanded
 
 
+class _Collision(Exception):
+    """Two different states with the same 64-bit key in one :class:`_StateSet`."""
+
+
+def _mix(x: np.ndarray) -> np.ndarray:
+    """SplitMix64's finaliser, a bijection of 64-bit words that spreads every bit over all.
+    Array arithmetic on ``uint64`` wraps around silently."""
+    x = (x ^ (x >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
+    x = (x ^ (x >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
+    return x ^ (x >> np.uint64(31))
+
+
+def row_hashes(states: np.ndarray) -> np.ndarray:
+    """A 64-bit key per row of a multi-word state array: its words mixed in one at a time.
+    Not injective: :class:`_StateSet` checks every key it relies on against the rows."""
+    h = _mix(states[:, 0])
+    for w in range(1, states.shape[1]):
+        h = _mix(h ^ states[:, w] ^ np.uint64(w))
+    return h
+
+
+class _StateSet:
+    """Exact sets of bit-packed states for a breadth-first search, keyed for sorting and
+    lookup.  A state of one word is its own key.  Wider states would need their bytes as keys,
+    and numpy sorts and searches those an order of magnitude more slowly than integers; so
+    they get a 64-bit hash as their key (:func:`row_hashes`), and every use of a key compares
+    the rows behind it.  Two different states with the same key raise :class:`_Collision`;
+    ``hashed=False`` keys wide states by their bytes instead, always exact."""
+
+    def __init__(self, n_words: int, *, hashed: bool = True):
+        self.n_words = n_words
+        self.hashed = hashed and n_words > 1
+        self.closed = _Closed()
+        self.rows: list[np.ndarray] = []  # hashed: the states of closed's levels, in key order
+
+    def distinct(self, states: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The distinct rows of ``states`` and their keys, in key order."""
+        if not self.hashed:
+            keys = unique_keys(state_keys(states))
+            if self.n_words == 1:
+                return keys.reshape(-1, 1), keys
+            return np.ascontiguousarray(keys).view(np.uint64).reshape(-1, self.n_words), keys
+        h = row_hashes(states)
+        order = np.argsort(h)
+        h, states = h[order], states[order]
+        same = h[1:] == h[:-1]
+        if (same & (states[1:] != states[:-1]).any(axis=1)).any():
+            raise _Collision
+        first = np.ones(len(h), dtype=bool)
+        first[1:] = ~same
+        return states[first], h[first]
+
+    def unseen(self, states: np.ndarray, keys: np.ndarray) -> np.ndarray:
+        """Which of the distinct ``states`` (keys ``keys``) are not in the set."""
+        if not self.hashed:
+            return ~self.closed.contains(keys)
+        seen = np.zeros(len(keys), dtype=bool)
+        for level, rows in zip(self.closed.levels, self.rows, strict=True):
+            at = np.minimum(np.searchsorted(level, keys), len(level) - 1)
+            hit = level[at] == keys
+            if hit.any():
+                if (rows[at[hit]] != states[hit]).any():
+                    raise _Collision
+                seen |= hit
+        return ~seen
+
+    def add(self, states: np.ndarray, keys: np.ndarray) -> None:
+        """Add distinct ``states`` (keys ``keys``, in key order) that :meth:`unseen` found
+        new."""
+        if not self.hashed:
+            self.closed.add(keys)
+            return
+        if not len(keys):
+            return
+        levels = self.closed.levels
+        levels.append(keys)
+        self.rows.append(states)
+        while len(levels) > 1 and len(levels[-2]) <= 2 * len(levels[-1]):
+            keys = np.concatenate((levels[-2], levels.pop()))
+            rows = np.concatenate((self.rows[-2], self.rows.pop()))
+            order = np.argsort(keys)  # unique keys: any order of equal ones is the same
+            levels[-1], self.rows[-1] = keys[order], rows[order]
+
+
 class Reachability:
     """Breadth-first reachability of ``task`` on numpy layers, costs ignored, that can be
     resumed with a larger state limit: the exhaustive searches that prove a model unsolvable
-    need no order, so no costs either.  It runs on the relevant part of ``task`` (the same
-    verdict, often on far fewer states)."""
+    need no order, so no costs either, and a layer is a set, kept in key order
+    (:class:`_StateSet`).  It runs on the relevant part of ``task`` (the same verdict, often
+    on far fewer states)."""
 
-    def __init__(self, task: GroundTask):
+    def __init__(self, task: GroundTask, *, hashed: bool = True):
         task = relevant_part(task)
         self._lay = _Layout(task, list(range(len(task.actions))))
         self._at_goal = self._lay.goal_rows(task.goal)
-        self._closed = _Closed()
-        self._layer = self._lay.state(task.init)
+        self._init = task.init
+        self._start(hashed)
+        self.verdict: Status | None = None  # once decided
+
+    def _start(self, hashed: bool) -> None:
+        self._seen = _StateSet(self._lay.n_words, hashed=hashed)
+        self._layer = self._lay.state(self._init)
         self._keys = None  # the keys of _layer once it holds only states not seen before
         self.expanded = 0
-        self.verdict: Status | None = None  # once decided
 
     def run(self, node_limit: int | None = None, deadline: Deadline | None = None) -> Status:
         """``PLAN`` once a reached state satisfies the goal, ``UNSOLVABLE`` once every
         reachable state is expanded (a proof that ``task`` has no plan), ``LIMIT`` when that
         would take more than ``node_limit`` expansions in all, ``TIMEOUT`` once ``deadline``
-        passes.  After ``LIMIT`` or ``TIMEOUT`` a later call goes on where this one stopped."""
+        passes.  After ``LIMIT`` or ``TIMEOUT`` a later call goes on where this one stopped.
+        Two states with the same hash key start the search again with exact keys: the
+        verdict and the count are those of the search that never hashed."""
         if self.verdict is not None:
             return self.verdict
+        try:
+            return self._run(node_limit, deadline)
+        except _Collision:
+            self._start(hashed=False)
+            return self._run(node_limit, deadline)
+
+    def _run(self, node_limit: int | None, deadline: Deadline | None) -> Status:
         deadline = deadline if deadline is not None else NO_DEADLINE
-        lay, closed = self._lay, self._closed
+        lay, seen = self._lay, self._seen
         while True:
             if self._keys is None:  # a new layer: keep its states not seen before
-                keys = lay.keys(self._layer)
-                fresh = _first_new(keys, closed)
-                self._layer, self._keys = self._layer[fresh], keys[fresh]
+                states, keys = seen.distinct(self._layer)
+                new = seen.unseen(states, keys)
+                self._layer, self._keys = states[new], keys[new]
                 if not len(self._layer):
                     break
                 if len(self._at_goal(self._layer)):
@@ -305,9 +403,8 @@ class Reachability:
             for lo in range(0, len(layer), _CHUNK):
                 if deadline.expired():
                     return Status.TIMEOUT  # the layer is expanded again on the next call
-                succ = lay.successors(layer[lo : lo + _CHUNK])[2]
-                successors.append(succ[np.sort(np.unique(lay.keys(succ), return_index=True)[1])])
-            closed.add(self._keys)
+                successors.append(seen.distinct(lay.successors(layer[lo : lo + _CHUNK])[2])[0])
+            seen.add(layer, self._keys)
             self.expanded += len(layer)
             self._layer = np.concatenate(successors) if successors else layer[:0]
             self._keys = None
