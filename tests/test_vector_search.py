@@ -163,20 +163,26 @@ def test_reachability_resumed_in_steps_is_one_run(task, limits):
     assert reach.run(0) == one  # decided: asked again, the same answer
 
 
+def _step(i: int, name: str, pre: int, add: int) -> StripsAction:
+    """An action that moves a token from atom ``pre`` to atom ``add``."""
+    return StripsAction(i, name, (), frozenset({pre}), frozenset(), frozenset({add}),
+                        frozenset({pre}), 1)  # fmt: skip
+
+
+def _token(n: int, goal) -> GroundTask:
+    """A token moved forward along ``n`` atoms from the sixth: each atom is a precondition,
+    so states past 64 atoms take two words."""
+    acts = tuple(_step(i, f"step{i}", i, i + 1) for i in range(n - 1))
+    return GroundTask(tuple((f"p{i}",) for i in range(n)), acts, frozenset({5}), frozenset(goal))
+
+
 @pytest.mark.parametrize("goal", [{69}, {3, 69}], ids=["end", "behind-and-end"])
 def test_reachability_on_states_of_two_words(goal):
-    """A token moved forward along 70 atoms from the sixth; each atom is a precondition, so
-    states take two words.  The token reaches the end, never two places at once, and never
-    goes back: the second goal is proven unsolvable after the 65 states from the sixth atom
-    on, as the search proves it."""
+    """The token reaches the end, never two places at once, and never goes back: the second
+    goal is proven unsolvable after the 65 states from the sixth atom on, as the search
+    proves it."""
     n = 70
-    acts = tuple(
-        StripsAction(i, f"step{i}", (), frozenset({i}), frozenset(), frozenset({i + 1}),
-                     frozenset({i}), 1)
-        for i in range(n - 1)
-    )  # fmt: skip
-    atoms = tuple((f"p{i}",) for i in range(n))
-    task = GroundTask(atoms, acts, frozenset({5}), frozenset(goal))
+    task = _token(n, goal)
     verdict, expanded = goal_reachable(task)
     if goal == {69}:
         assert verdict == Status.PLAN
@@ -231,12 +237,7 @@ def test_colliding_hashes_fall_back_to_exact_keys(monkeypatch, weak):
     from mega_sat.search import vector_search
 
     n = 70
-    acts = tuple(
-        StripsAction(i, f"step{i}", (), frozenset({i}), frozenset(), frozenset({i + 1}),
-                     frozenset({i}), 1)
-        for i in range(n - 1)
-    )  # fmt: skip
-    task = GroundTask(tuple((f"p{i}",) for i in range(n)), acts, frozenset({5}), frozenset({3, 69}))
+    task = _token(n, {3, n - 1})
     exact = Reachability(task, hashed=False)
     monkeypatch.setattr(vector_search, "row_hashes", weak)
     reach = Reachability(task)
@@ -252,16 +253,11 @@ def test_two_new_states_with_one_key_are_both_kept(monkeypatch):
     from mega_sat.search import vector_search
 
     n = 70
-
-    def act(i, name, pre, add):
-        return StripsAction(i, name, (), frozenset({pre}), frozenset(), frozenset({add}),
-                            frozenset({pre}), 1)  # fmt: skip
-
     # p1 is a dead end (d also needs p2), but a relevant one: both successors are states
     both = StripsAction(3, "d", (), frozenset({1, 2}), frozenset(), frozenset({3}),
                         frozenset(), 1)  # fmt: skip
-    acts = [act(0, "a", 0, 1), act(1, "b", 0, 2), act(2, "c", 2, n - 1), both]
-    acts += [act(len(acts) + k - 3, f"step{k}", k, k + 1) for k in range(3, n - 1)]
+    acts = [_step(0, "a", 0, 1), _step(1, "b", 0, 2), _step(2, "c", 2, n - 1), both]
+    acts += [_step(len(acts) + k - 3, f"step{k}", k, k + 1) for k in range(3, n - 1)]
     task = GroundTask(tuple((f"p{i}",) for i in range(n)), tuple(acts), frozenset({0}),
                       frozenset({n - 1}))  # fmt: skip
 
