@@ -37,6 +37,7 @@ from mega_sat.search.vector_search import (
     _CHUNK,
     _Closed,
     _words,
+    key_rows,
     state_keys,
     successors,
     unique_keys,
@@ -262,7 +263,7 @@ class MayReachability:
         seen = self.closed.contains(keys)
         if closed is not None:
             seen |= closed.contains(keys)
-        return _rows(keys[~seen], self.n_words)
+        return key_rows(keys[~seen], self.n_words)
 
     def _spend(self, states: int) -> bool:
         """Count ``states`` as visited; whether that passes ``work_limit``."""
@@ -347,11 +348,6 @@ def _successors_by_chunk(states: np.ndarray, table):
 
 def _at_goal(states: np.ndarray, goal: np.ndarray) -> np.ndarray:
     return ((states & goal) == goal).all(axis=1)
-
-
-def _rows(keys: np.ndarray, n_words: int) -> np.ndarray:
-    """Bit-packed states back from their keys (:func:`state_keys`)."""
-    return np.ascontiguousarray(keys).view(np.uint64).reshape(-1, n_words)
 
 
 def _new_rows(old: tuple[np.ndarray, ...], new: tuple[np.ndarray, ...]) -> tuple[np.ndarray, ...]:

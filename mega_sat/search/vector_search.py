@@ -47,10 +47,12 @@ def _words(atoms, pos: dict[int, int], n_words: int) -> list[int]:
 
 class _Closed:
     """A set of state keys as a few sorted arrays of doubling size (a log-structured merge):
-    membership is one ``searchsorted`` per array, insertion amortises the sorting."""
+    membership is one ``searchsorted`` per array, insertion amortises the sorting.  Keys added
+    with their ``rows`` keep them, in the same order, in ``rows``."""
 
     def __init__(self) -> None:
         self.levels: list[np.ndarray] = []
+        self.rows: list[np.ndarray | None] = []
 
     def contains(self, keys: np.ndarray) -> np.ndarray:
         found = np.zeros(len(keys), dtype=bool)
@@ -59,13 +61,25 @@ class _Closed:
             found |= level[at] == keys
         return found
 
-    def add(self, keys: np.ndarray) -> None:
+    def add(self, keys: np.ndarray, rows: np.ndarray | None = None) -> None:
         if not len(keys):
             return
-        self.levels.append(np.sort(keys))
+        self.levels.append(keys)
+        self.rows.append(rows)
+        self._sort_top()
         while len(self.levels) > 1 and len(self.levels[-2]) <= 2 * len(self.levels[-1]):
-            top = self.levels.pop()
-            self.levels[-1] = np.sort(np.concatenate((self.levels[-1], top)))
+            top, top_rows = self.levels.pop(), self.rows.pop()
+            self.levels[-1] = np.concatenate((self.levels[-1], top))
+            if top_rows is not None:
+                self.rows[-1] = np.concatenate((self.rows[-1], top_rows))
+            self._sort_top()
+
+    def _sort_top(self) -> None:
+        if self.rows[-1] is None:
+            self.levels[-1] = np.sort(self.levels[-1])
+        else:
+            order = np.argsort(self.levels[-1])
+            self.levels[-1], self.rows[-1] = self.levels[-1][order], self.rows[-1][order]
 
 
 class _Layout:
@@ -124,6 +138,11 @@ def state_keys(states: np.ndarray) -> np.ndarray:
     if states.shape[1] == 1:
         return states[:, 0]
     return np.ascontiguousarray(states).view(np.dtype((np.void, 8 * states.shape[1]))).ravel()
+
+
+def key_rows(keys: np.ndarray, n_words: int) -> np.ndarray:
+    """Bit-packed states back from their keys (:func:`state_keys`)."""
+    return np.ascontiguousarray(keys).view(np.uint64).reshape(-1, n_words)
 
 
 def unique_keys(keys: np.ndarray) -> np.ndarray:
@@ -295,16 +314,13 @@ class _StateSet:
     def __init__(self, n_words: int, *, hashed: bool = True):
         self.n_words = n_words
         self.hashed = hashed and n_words > 1
-        self.closed = _Closed()
-        self.rows: list[np.ndarray] = []  # hashed: the states of closed's levels, in key order
+        self.closed = _Closed()  # hashed: with the states behind its keys
 
     def distinct(self, states: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The distinct rows of ``states`` and their keys, in key order."""
         if not self.hashed:
             keys = unique_keys(state_keys(states))
-            if self.n_words == 1:
-                return keys.reshape(-1, 1), keys
-            return np.ascontiguousarray(keys).view(np.uint64).reshape(-1, self.n_words), keys
+            return key_rows(keys, self.n_words), keys
         h = row_hashes(states)
         order = np.argsort(h)
         h, states = h[order], states[order]
@@ -320,7 +336,7 @@ class _StateSet:
         if not self.hashed:
             return ~self.closed.contains(keys)
         seen = np.zeros(len(keys), dtype=bool)
-        for level, rows in zip(self.closed.levels, self.rows, strict=True):
+        for level, rows in zip(self.closed.levels, self.closed.rows, strict=True):
             at = np.minimum(np.searchsorted(level, keys), len(level) - 1)
             hit = level[at] == keys
             if hit.any():
@@ -330,21 +346,8 @@ class _StateSet:
         return ~seen
 
     def add(self, states: np.ndarray, keys: np.ndarray) -> None:
-        """Add distinct ``states`` (keys ``keys``, in key order) that :meth:`unseen` found
-        new."""
-        if not self.hashed:
-            self.closed.add(keys)
-            return
-        if not len(keys):
-            return
-        levels = self.closed.levels
-        levels.append(keys)
-        self.rows.append(states)
-        while len(levels) > 1 and len(levels[-2]) <= 2 * len(levels[-1]):
-            keys = np.concatenate((levels[-2], levels.pop()))
-            rows = np.concatenate((self.rows[-2], self.rows.pop()))
-            order = np.argsort(keys)  # unique keys: any order of equal ones is the same
-            levels[-1], self.rows[-1] = keys[order], rows[order]
+        """Add distinct ``states`` (keys ``keys``) that :meth:`unseen` found new."""
+        self.closed.add(keys, states if self.hashed else None)
 
 
 class Reachability:
