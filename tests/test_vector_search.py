@@ -15,8 +15,11 @@ from mega_sat.ground.relevance import relevant_part
 from mega_sat.search import astar as astar_mod
 from mega_sat.search.astar import _python_uniform_cost_steps, _successor_groups
 from mega_sat.search.vector_search import (
+    _GROUP_ROWS,
     Reachability,
+    _Closed,
     goal_reachable,
+    successors,
     vector_uniform_cost_steps,
 )
 from mega_sat.status import Status
@@ -269,3 +272,96 @@ def test_two_new_states_with_one_key_are_both_kept(monkeypatch):
     monkeypatch.setattr(vector_search, "row_hashes", weak)
     assert vector_search._Layout(relevant_part(task), list(range(len(acts)))).n_words == 2
     assert goal_reachable(task)[0] == Status.PLAN
+
+
+def _successors_row_by_row(states, pre, neg, keep, add):
+    """The definition of :func:`successors`, one state and one row at a time."""
+    out = []
+    for r, s in enumerate(states):
+        for a in range(len(pre)):
+            if ((s & (pre[a] | neg[a])) == pre[a]).all() and not (pre[a] & neg[a]).any():
+                out.append((r, a, tuple(int(x) for x in (s & keep[a]) | add[a])))
+    return out
+
+
+def _listed(rows, acts, succ):
+    return [(int(r), int(a), tuple(int(x) for x in s))
+            for r, a, s in zip(rows, acts, succ, strict=True)]  # fmt: skip
+
+
+@st.composite
+def action_tables(draw):
+    """States and action rows over a few atoms, the rows in runs of equal conditions (as
+    the variants of one action) long and short, so that both ways of testing them run."""
+    words = draw(st.integers(1, 2))
+    word = st.lists(st.integers(0, 63), min_size=words, max_size=words)
+    states = draw(st.lists(word, max_size=40))
+    runs = draw(st.lists(st.tuples(word, word, st.integers(1, 8)), min_size=1, max_size=24))
+    pre, neg = [], []
+    for p, n, length in runs:
+        pre += [p] * length
+        neg += [n] * length
+    rows = len(pre)
+    keep = draw(st.lists(word, min_size=rows, max_size=rows))
+    add = draw(st.lists(word, min_size=rows, max_size=rows))
+    return tuple(np.array(x, dtype=np.uint64).reshape(-1, words)
+                 for x in (states, pre, neg, keep, add))  # fmt: skip
+
+
+@oracle_settings(150)
+@given(action_tables())
+def test_successors_with_runs_of_equal_conditions_are_row_by_row(table):
+    """Grouped (runs tested once) or not, the successors are the row-by-row ones, in
+    order; tables below the grouping size are grouped too when the size is lowered."""
+    from mega_sat.search import vector_search
+
+    want = _successors_row_by_row(*table)
+    for group in (_GROUP_ROWS, 1):
+        vector_search._GROUP_ROWS = group
+        try:
+            rows, acts, succ = successors(*table)
+        finally:
+            vector_search._GROUP_ROWS = _GROUP_ROWS
+        assert _listed(rows, acts, succ) == want
+
+
+def test_a_grouped_table_tests_each_run_once(monkeypatch):
+    """A table of long runs is tested on its runs only: a count of the rows the mask test
+    sees (through ``np.flatnonzero``'s input) shows the grouping happened."""
+    from mega_sat.search import vector_search
+
+    rng = np.random.default_rng(7)
+    states = rng.integers(0, 1 << 12, size=(50, 1), dtype=np.uint64)
+    pre = np.repeat(np.arange(10, dtype=np.uint64).reshape(-1, 1), 4, 0)  # 10 runs of 4
+    neg = np.zeros_like(pre)
+    keep = rng.integers(0, 1 << 12, size=(40, 1), dtype=np.uint64)
+    add = rng.integers(0, 1 << 12, size=(40, 1), dtype=np.uint64)
+    seen = []
+    real = np.flatnonzero
+    monkeypatch.setattr(vector_search.np, "flatnonzero", lambda a: seen.append(a.shape) or real(a))
+    rows, acts, succ = successors(states, pre, neg, keep, add)
+    monkeypatch.undo()
+    assert seen[-1] == (50, 10)
+    assert _listed(rows, acts, succ) == _successors_row_by_row(states, pre, neg, keep, add)
+
+
+@pytest.mark.parametrize("with_rows", [False, True])
+def test_a_compacted_closed_list_is_the_same_set(with_rows):
+    """``_Closed.compact`` merges the sorted arrays into one: membership and the rows kept
+    behind the keys stay as they were."""
+    rng = np.random.default_rng(3)
+    closed = _Closed()
+    # keys are added once each, as the searches add only keys not seen before
+    keys = rng.permutation(500).astype(np.uint64)
+    batches = [np.sort(keys[lo:hi]) for lo, hi in ((0, 40), (40, 47), (47, 137), (137, 140))]
+    for batch in batches:
+        closed.add(batch, batch * np.uint64(2) if with_rows else None)
+    assert len(closed.levels) > 1
+    probe = np.arange(500, dtype=np.uint64)
+    before = closed.contains(probe)
+    closed.compact()
+    assert len(closed.levels) == 1 and (np.diff(closed.levels[0].astype(np.int64)) > 0).all()
+    assert (closed.contains(probe) == before).all()
+    assert (before == np.isin(probe, keys[:140])).all()
+    if with_rows:
+        assert (closed.rows[0] == closed.levels[0] * np.uint64(2)).all()

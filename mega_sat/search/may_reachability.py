@@ -274,6 +274,8 @@ class MayReachability:
         self.free, self.rows = free, rows
         for level in closed.levels:
             self.closed.add(level)
+        # R is searched by every trial's scan and grows only here: one array to search
+        self.closed.compact()
         self.states = np.concatenate((self.states, new_states))
 
     def reached(self) -> set[frozenset[int]]:

@@ -33,6 +33,10 @@ from mega_sat.status import Status
 
 _WORD = 64
 _ALL = (1 << _WORD) - 1
+_GROUP_ROWS = 32
+"""Action tables from this size on, with three rows or more per run of equal conditions on
+average, have each run tested once; smaller or less repetitive tables are tested row by row,
+which is then as fast or faster."""
 _CHUNK = 4096
 """States expanded per numpy pass: large enough that numpy's per-call cost is small, small
 enough that the applicability matrix (states x actions) stays a few megabytes."""
@@ -73,6 +77,19 @@ class _Closed:
             if top_rows is not None:
                 self.rows[-1] = np.concatenate((self.rows[-1], top_rows))
             self._sort_top()
+
+    def compact(self) -> None:
+        """Merge every array into one: for a set searched far more often than it grows, one
+        ``searchsorted`` per lookup instead of one per array.  The arrays are sorted runs, which
+        a stable sort merges in linear time."""
+        if len(self.levels) < 2:
+            return
+        keys = np.concatenate(self.levels)
+        if self.rows[0] is None:
+            self.levels, self.rows = [np.sort(keys, kind="stable")], [None]
+        else:
+            order = np.argsort(keys, kind="stable")
+            self.levels, self.rows = [keys[order]], [np.concatenate(self.rows)[order]]
 
     def _sort_top(self) -> None:
         if self.rows[-1] is None:
@@ -159,7 +176,17 @@ def successors(
     states: np.ndarray, pre: np.ndarray, neg: np.ndarray, keep: np.ndarray, add: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``(row, action row, successor)`` for every action row (word arrays ``pre``, ``neg``,
-    ``keep``, ``add``) applicable in every state, by state, then action."""
+    ``keep``, ``add``) applicable in every state, by state, then action.
+
+    Neighbouring rows with the same conditions (the variants of one action in
+    :mod:`mega_sat.search.may_reachability`, which differ only in their effects) are tested
+    once, and each applicable run is spread back over its rows in order."""
+    runs = None
+    if len(pre) >= _GROUP_ROWS:
+        differs = (pre[1:] != pre[:-1]).any(axis=1) | (neg[1:] != neg[:-1]).any(axis=1)
+        if 3 * (differs.sum() + 1) <= len(pre):
+            runs = np.concatenate(([0], np.flatnonzero(differs) + 1))
+            pre, neg = pre[runs], neg[runs]
     # one mask test per word: the atoms a row tests, against the ones it needs true
     both = pre | neg
     ok = (states[:, :1] & both[:, 0]) == pre[:, 0]
@@ -171,6 +198,13 @@ def successors(
     # the flat indices split by hand: the same (row-major) pairs as np.nonzero, several times
     # faster than its two-dimensional form
     rows, acts = np.divmod(np.flatnonzero(ok), ok.shape[1])
+    if runs is not None:
+        # run k covers rows runs[k] .. runs[k+1]-1: repeat each (state, run) pair once per
+        # row of its run, counting up from the run's first row
+        sizes = np.diff(runs, append=len(keep))[acts]
+        ends = np.cumsum(sizes)
+        rows = np.repeat(rows, sizes)
+        acts = np.repeat(runs[acts] - ends + sizes, sizes) + np.arange(len(rows))
     return rows, acts, (states[rows] & keep[acts]) | add[acts]
 
 
