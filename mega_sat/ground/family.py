@@ -34,6 +34,14 @@ CostCase = tuple[tuple[GuardLit, ...], int]
 """``(guards, value)``: the action costs ``value`` when all guards hold."""
 
 
+_RECENT_TASKS = 16
+"""Ground tasks :meth:`GroundFamily.specialize` keeps for the selections asked last."""
+_VERSIONS_KEPT = 16
+"""Versions of one ground action :meth:`GroundFamily.specialize` keeps (an action that
+mentions ``k`` updates has up to ``2 ** k``; the cap bounds the memory on large families)."""
+_MISSING = object()
+
+
 def holds(guard: Guard, selection: frozenset[int]) -> bool:
     """Whether a guarded component is present in ``human + selection``."""
     return guard is None or ((guard[0] in selection) == guard[1])
@@ -147,29 +155,60 @@ class GroundFamily:
         return max((v for a in self.actions for _, v in a.cost), default=0)
 
     def specialize(self, selection: Iterable[int]) -> GroundTask:
-        """The ground task of ``human + selection``."""
-        sel = frozenset(selection)
+        """The ground task of ``human + selection``.
 
+        The loop asks for the same model several times (its bounds, its search, its
+        oracles), and an action's part of it depends only on the updates it mentions: the
+        last few tasks and every action's versions so far are kept, so a repeated model
+        costs a lookup and a new one a pass over the actions."""
+        sel = frozenset(selection)
+        recent = self._recent_tasks
+        task = recent.pop(sel, None)
+        if task is None:
+            task = self._specialized(sel)
+            if len(recent) >= _RECENT_TASKS:
+                del recent[next(iter(recent))]
+        recent[sel] = task  # most recent last
+        return task
+
+    def _specialized(self, sel: frozenset[int]) -> GroundTask:
         def keep(entries: tuple[Entry, ...]) -> frozenset[int]:
             return frozenset(p for p, g in entries if holds(g, sel))
 
         acts = []
-        for i, a in enumerate(self.actions):
-            if not holds(a.exists, sel):
-                continue
-            acts.append(
-                StripsAction(
-                    i,
-                    a.name,
-                    a.args,
-                    keep(a.pre),
-                    keep(a.negpre),
-                    keep(a.add),
-                    keep(a.delete),
-                    a.cost_in(sel),
-                )
-            )
+        for i, (a, mentions, versions) in enumerate(
+            zip(self.actions, self._action_guards, self._action_versions, strict=True)
+        ):
+            key = mentions & sel
+            version = versions.get(key, _MISSING)
+            if version is _MISSING:
+                version = (
+                    StripsAction(
+                        i, a.name, a.args, keep(a.pre), keep(a.negpre), keep(a.add),
+                        keep(a.delete), a.cost_in(sel),
+                    )
+                    if holds(a.exists, sel)
+                    else None
+                )  # fmt: skip
+                if len(versions) < _VERSIONS_KEPT:
+                    versions[key] = version
+            if version is not None:
+                acts.append(version)
         return GroundTask(self.atoms, tuple(acts), keep(self.init), keep(self.goal))
+
+    @cached_property
+    def _action_guards(self) -> tuple[frozenset[int], ...]:
+        return tuple(frozenset(a.guards()) for a in self.actions)
+
+    @cached_property
+    def _action_versions(self) -> tuple[dict[frozenset[int], StripsAction | None], ...]:
+        """Per action, its ground versions (``None``: absent) by the updates it mentions that
+        are selected, the first ``_VERSIONS_KEPT`` of them."""
+        return tuple({} for _ in self.actions)
+
+    @cached_property
+    def _recent_tasks(self) -> dict[frozenset[int], GroundTask]:
+        return {}
 
     def describe(self) -> str:
         return (
