@@ -36,9 +36,10 @@ CostCase = tuple[tuple[GuardLit, ...], int]
 
 _RECENT_TASKS = 16
 """Ground tasks :meth:`GroundFamily.specialize` keeps for the selections asked last."""
-_VERSIONS_KEPT = 16
-"""Versions of one ground action :meth:`GroundFamily.specialize` keeps (an action that
-mentions ``k`` updates has up to ``2 ** k``; the cap bounds the memory on large families)."""
+_VERSIONS_KEPT = 4
+"""Ground action versions :meth:`GroundFamily.specialize` keeps, per action of the family on
+average (an action that mentions ``k`` updates has up to ``2 ** k``): at most the memory of
+that many ground tasks, on any family."""
 _MISSING = object()
 
 
@@ -176,6 +177,7 @@ class GroundFamily:
             return frozenset(p for p, g in entries if holds(g, sel))
 
         acts = []
+        room = self._versions_room
         for i, (a, mentions, versions) in enumerate(
             zip(self.actions, self._action_guards, self._action_versions, strict=True)
         ):
@@ -190,8 +192,9 @@ class GroundFamily:
                     if holds(a.exists, sel)
                     else None
                 )  # fmt: skip
-                if len(versions) < _VERSIONS_KEPT:
+                if room[0] > 0:
                     versions[key] = version
+                    room[0] -= 1
             if version is not None:
                 acts.append(version)
         return GroundTask(self.atoms, tuple(acts), keep(self.init), keep(self.goal))
@@ -203,8 +206,13 @@ class GroundFamily:
     @cached_property
     def _action_versions(self) -> tuple[dict[frozenset[int], StripsAction | None], ...]:
         """Per action, its ground versions (``None``: absent) by the updates it mentions that
-        are selected, the first ``_VERSIONS_KEPT`` of them."""
+        are selected (the first ones built, within :attr:`_versions_room`)."""
         return tuple({} for _ in self.actions)
+
+    @cached_property
+    def _versions_room(self) -> list[int]:
+        """How many more versions :attr:`_action_versions` may keep (one mutable count)."""
+        return [_VERSIONS_KEPT * len(self.actions)]
 
     @cached_property
     def _recent_tasks(self) -> dict[frozenset[int], GroundTask]:
