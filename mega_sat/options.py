@@ -414,13 +414,16 @@ class Options:
         },
     )
     race_fd_after_work: int = field(
-        default=0,
+        default=300_000,
         metadata={
             "doc": "work of the forked OPT race's SAT side (in the referee's search states) "
             "after which, with neither side done, a plan of the model in hand (SAT's, or the "
             "greedy search's below) and Fast Downward installed, the race stops and FD's "
             "astar(lmcut()) proves the optimum; a point fixed by work, so runs repeat (0: "
-            "never; 50000 takes bench/tasks/blocks-no-deletes from 36 to 6 s, bench/README.md)",
+            "never). The default is above every race of the paper grid (at most 48,804), "
+            "Delta = 15 and 20 and the missing-schemas suite; only usar-fetch Delta30 p2's "
+            "one long proof passes it. 50000 takes bench/tasks/blocks-no-deletes from 36 to "
+            "6 s but other Delta = 30 tasks off their paths (bench/README.md)",
             "zero": True,
         },
     )

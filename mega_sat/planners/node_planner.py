@@ -14,9 +14,9 @@ too.  Three planners answer the same question (optimal cost and one optimal plan
   (``builtin`` for either search, its ``reason`` which one).  Past the SAT horizon cap only
   the explicit search can decide, and it runs on alone: it is complete (it exhausts the finite
   state space of an unsolvable model), so every model gets decided, given time.  With
-  ``Options.race_fd_after_work`` set (off by default) and Fast Downward installed, a forked
-  race still open after that much SAT work, with a plan of the model in hand (SAT's, or a
-  greedy search's), is handed to ``fd``.
+  Fast Downward installed, a forked race still open after ``Options.race_fd_after_work`` units
+  of SAT work (a point no race of the paper grid reaches), with a plan of the model in hand
+  (SAT's, or a greedy search's), is handed to ``fd``.
 """
 
 from __future__ import annotations
@@ -296,7 +296,8 @@ class NodePlanner:
         search in C++ proves optima that take SAT minutes and the child's pure-Python LM-cut
         hours.  Both the stopping point and FD's answer follow from work, not the clock, so
         runs still repeat.  FD's plans lead the loop other ways, which can cost as much as
-        they save, hence off by default (bench/README.md)."""
+        they save, hence a default point past every race of the paper grid and of most
+        larger tasks: only a proof that dwarfs the rest is handed over (bench/README.md)."""
         from mega_sat.sat.oracles import OracleInterrupted
 
         opts = self.options
