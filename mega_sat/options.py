@@ -420,10 +420,9 @@ class Options:
             "after which, with neither side done, a plan of the model in hand (SAT's, or the "
             "greedy search's below) and Fast Downward installed, the race stops and FD's "
             "astar(lmcut()) proves the optimum; a point fixed by work, so runs repeat (0: "
-            "never). The default is above every race of the paper grid (at most 48,804), "
-            "Delta = 15 and 20 and the missing-schemas suite; only usar-fetch Delta30 p2's "
-            "one long proof passes it. 50000 takes bench/tasks/blocks-no-deletes from 36 to "
-            "6 s but other Delta = 30 tasks off their paths (bench/README.md)",
+            "never). The default lies past every race of the paper grid, so only a proof far "
+            "longer than the rest is handed over: FD's other plans would take the loop other "
+            "ways; smaller values hand over sooner (bench/README.md)",
             "zero": True,
         },
     )
