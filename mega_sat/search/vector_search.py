@@ -60,10 +60,16 @@ class _Closed:
 
     def contains(self, keys: np.ndarray) -> np.ndarray:
         found = np.zeros(len(keys), dtype=bool)
-        for level in self.levels:
-            at = np.minimum(np.searchsorted(level, keys), len(level) - 1)
-            found |= level[at] == keys
+        for hit, _, _ in self.lookup(keys):
+            found |= hit
         return found
+
+    def lookup(self, keys: np.ndarray):
+        """Per sorted array: which ``keys`` it holds, where each would stand in it, and the
+        rows kept behind its keys (``None`` if none were given)."""
+        for level, rows in zip(self.levels, self.rows, strict=True):
+            at = np.minimum(np.searchsorted(level, keys), len(level) - 1)
+            yield level[at] == keys, at, rows
 
     def add(self, keys: np.ndarray, rows: np.ndarray | None = None) -> None:
         if not len(keys):
@@ -84,18 +90,15 @@ class _Closed:
         a stable sort merges in linear time."""
         if len(self.levels) < 2:
             return
-        keys = np.concatenate(self.levels)
-        if self.rows[0] is None:
-            self.levels, self.rows = [np.sort(keys, kind="stable")], [None]
-        else:
-            order = np.argsort(keys, kind="stable")
-            self.levels, self.rows = [keys[order]], [np.concatenate(self.rows)[order]]
+        rows = None if self.rows[0] is None else np.concatenate(self.rows)
+        self.levels, self.rows = [np.concatenate(self.levels)], [rows]
+        self._sort_top(kind="stable")
 
-    def _sort_top(self) -> None:
+    def _sort_top(self, kind: str | None = None) -> None:
         if self.rows[-1] is None:
-            self.levels[-1] = np.sort(self.levels[-1])
+            self.levels[-1] = np.sort(self.levels[-1], kind=kind)
         else:
-            order = np.argsort(self.levels[-1])
+            order = np.argsort(self.levels[-1], kind=kind)
             self.levels[-1], self.rows[-1] = self.levels[-1][order], self.rows[-1][order]
 
 
@@ -370,9 +373,7 @@ class _StateSet:
         if not self.hashed:
             return ~self.closed.contains(keys)
         seen = np.zeros(len(keys), dtype=bool)
-        for level, rows in zip(self.closed.levels, self.closed.rows, strict=True):
-            at = np.minimum(np.searchsorted(level, keys), len(level) - 1)
-            hit = level[at] == keys
+        for hit, at, rows in self.closed.lookup(keys):
             if hit.any():
                 if (rows[at[hit]] != states[hit]).any():
                     raise _Collision
