@@ -11,14 +11,18 @@ clause by clause from the states it proves unreachable (Bradley 2011; for planni
 
 Frames ``F_0 = init``, ``F_1``, ... over-approximate the states reachable within ``i``
 steps; each is the set of clauses learned at its level or above (one solver, one activation
-literal per level).  A goal state in ``F_k`` is blocked recursively: a state with no
-predecessor in ``F_{i-1}`` becomes a clause of ``F_1..F_i``, generalized by the solver's core
-and by dropping literals while that stays true (the query is not made relative to the
-state's own negation: on the shipped models the plain query was 2-3 times faster).  Once a
-level's clauses all hold one level up, that level is an inductive invariant: no plan.  A
-chain of predecessors back to the initial state means a plan exists (its cost is not
-computed: the caller only asks whether there is none).  :meth:`Pdr.seed` starts ``F_1`` from
-the clauses of earlier invariants that hold there (models a few updates apart share most).
+literal per level).  Once ``F_k`` holds a goal state, the goal's cube is blocked
+recursively.  A cube with no predecessor in ``F_{i-1}`` becomes a clause of ``F_1..F_i``,
+generalized by the solver's core and by dropping literals while that stays true (the query
+is not made relative to the cube's own negation: on the shipped models the plain query was
+2-3 times faster).  A cube with a predecessor is regressed through that step's action (Suda
+2014): the obligation one level down is every state from which the action leads into the
+cube, not the one state the solver found, so one clause blocks what would otherwise take a
+query per state.  Once a level's clauses all hold one level up, that level is an inductive
+invariant: no plan.  A chain of obligations back to the initial state means a plan exists
+(its cost is not computed: the caller only asks whether there is none).  :meth:`Pdr.seed`
+starts ``F_1`` from the clauses of earlier invariants that hold there (models a few updates
+apart share most).
 """
 
 from __future__ import annotations
@@ -58,6 +62,7 @@ class Pdr:
         self._frames: list[list[Cube]] = [[]]  # cubes blocked at exactly level i (delta)
         self.queries = 0
         self._fixpoint: int | None = None  # F_i = F_{i+1} for this i, once proven
+        self._goal: Cube = frozenset((p, True) for p in task.goal)  # the first obligation
 
     def close(self) -> None:
         self._solver.delete()
@@ -118,10 +123,6 @@ class Pdr:
         self.queries += 1
         return bool(self._solver.solve(assumptions=assumptions))
 
-    def _state(self) -> Cube:
-        model = self._solver.get_model()
-        return frozenset((p, model[self._x[p] - 1] > 0) for p in range(self.n))
-
     def _in_init(self, cube: Cube) -> bool:
         return all((p in self.init) == v for p, v in cube)
 
@@ -136,14 +137,27 @@ class Pdr:
     # -------------------------------------------------------------------- search
     def _predecessor(self, cube: Cube, i: int) -> tuple[bool, Cube | set[int]]:
         """Whether some state of ``F_{i-1}`` has a successor in ``cube`` (``F_0`` is the
-        initial state, which no blocked cube contains): ``(True, that state)``, or ``(False,
-        the solver's core)``."""
+        initial state, which no blocked cube contains): ``(True, the regression of cube
+        through that step's action)``, or ``(False, the solver's core)``."""
         if i == 1:
             base = [self._x[p] if p in self.init else -self._x[p] for p in range(self.n)]
         else:
             base = self._frame(i - 1)
         found = self._solve([self._step, *base, *self._next(cube)])
-        return found, self._state() if found else set(self._solver.get_core() or [])
+        return found, self._regress(cube) if found else set(self._solver.get_core() or [])
+
+    def _regress(self, cube: Cube) -> Cube:
+        """The states from which the model's action leads into ``cube``: its conditions
+        and the literals of ``cube`` it leaves alone.  Every one of them reaches ``cube`` in
+        one step, so an obligation on all of them is as sound as one on the model's state,
+        and blocking them all at once spares IC3 a query per state (Suda 2014)."""
+        model, first = self._solver.get_model(), 2 * self.n
+        a = next(j for j in range(len(self.task.actions)) if model[first + j] > 0)
+        act = self.task.actions[a]
+        out = {(p, v) for p, v in cube if p not in act.add and p not in act.delete}
+        out.update((p, True) for p in act.pre)
+        out.update((p, False) for p in act.negpre)
+        return frozenset(out)
 
     def _generalize(self, cube: Cube, i: int, core: set[int]) -> Cube:
         """A subset of ``cube`` (just proven to have no predecessor in ``F_{i-1}``, ``core``
@@ -174,6 +188,8 @@ class Pdr:
                 return Status.PLAN  # a chain of predecessors from the initial state
             found, got = self._predecessor(cube, i)
             if found:
+                if self._in_init(got):
+                    return Status.PLAN  # the initial state reaches bad
                 heapq.heappush(queue, (i - 1, next(order), got))
                 heapq.heappush(queue, (i, next(order), cube))
             else:
@@ -197,7 +213,7 @@ class Pdr:
             if deadline.expired():
                 return Status.TIMEOUT
             if self._solve(self._frame(k) + goal):
-                got = self._block(self._state(), k, query_limit, deadline)
+                got = self._block(self._goal, k, query_limit, deadline)
                 if got is not None:
                     return got
                 continue
