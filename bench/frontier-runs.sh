@@ -2,15 +2,25 @@
 # One `mega-sat frontier` per task folder, one at a time, with a time limit: a line per task
 # (wall seconds of the whole process, exact, iterations, frontier pairs) and its JSON in OUT.
 # usage: bench/frontier-runs.sh OUT TIMEOUT 'domains/*/delta/20/p*' [extra frontier options]
-# Run from the repository root with the project's .venv.
+# Run from the repository root with the project's .venv.  TREE=/path/to/checkout runs that
+# source tree's mega_sat instead of the installed one (e.g. an older commit's worktree).
 set -u
 out=$1; limit=$2; pattern=$3; shift 3
 mkdir -p "$out"
+tree=${TREE:-}
 for t in $pattern; do
   name=$(echo "$t" | sed 's#domains/##; s#/delta/#-d#; s#/#-#g')
   s=$(date +%s.%N)
-  timeout $((${limit%.*} + 30)) .venv/bin/mega-sat frontier --task "$t" --timeout "$limit" \
-    --json --quiet "$@" > "$out/$name.json" 2> "$out/$name.err"
+  if [ -n "$tree" ]; then  # from OUT, so that the current directory does not shadow TREE
+    (cd "$out" && PYTHONPATH=$(realpath "$tree") timeout $((${limit%.*} + 30)) \
+      "$OLDPWD/.venv/bin/python" -W ignore -c "import sys; sys.argv[0] = 'mega-sat'
+from mega_sat.cli.commands import main
+main()" frontier --task "$OLDPWD/$t" --timeout "$limit" --json --quiet "$@" \
+      > "$name.json" 2> "$name.err")
+  else
+    timeout $((${limit%.*} + 30)) .venv/bin/mega-sat frontier --task "$t" --timeout "$limit" \
+      --json --quiet "$@" > "$out/$name.json" 2> "$out/$name.err"
+  fi
   rc=$?
   wall=$(echo "$(date +%s.%N) - $s" | bc)
   .venv/bin/python - "$out/$name.json" "$name" "$rc" "$wall" <<'PY'
