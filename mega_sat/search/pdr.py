@@ -184,10 +184,10 @@ class Pdr:
             if deadline.expired():
                 return Status.TIMEOUT
             i, _, cube = heapq.heappop(queue)
-            if i == 0:
-                return Status.PLAN  # a chain of predecessors from the initial state
             found, got = self._predecessor(cube, i)
             if found:
+                # at level 1 the predecessor is the initial state, so no obligation reaches
+                # level 0: a chain of obligations ends here
                 if self._in_init(got):
                     return Status.PLAN  # the initial state reaches bad
                 heapq.heappush(queue, (i - 1, next(order), got))
