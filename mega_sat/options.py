@@ -249,6 +249,16 @@ class Options:
             "(see unsolvable_core_trial_states)"
         },
     )
+    unsolvable_core_ic3_queries: int = field(
+        default=0,
+        metadata={
+            "zero": True,
+            "doc": "SAT calls of IC3 on the abstraction of an update's trial in that proof, "
+            "where its states ran past their limits and the pair proof failed (0: off). "
+            "Smaller exclusions where the states outgrow the limits; off by default since "
+            "on other tasks the proofs cost more than they save (bench/README.md)",
+        },
+    )
     joint_sat_conflicts: int = field(
         default=50_000,
         metadata={

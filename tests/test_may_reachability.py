@@ -3,6 +3,8 @@ ground truth on random families (tests/helpers/sat_families.py)."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 from helpers.fuzzing import oracle_settings
 from helpers.sat_families import _succ, agreeing, dijkstra, families, selections
@@ -92,6 +94,45 @@ def test_unsolvable_cores_exclude_only_unsolvable_models(fam: GroundFamily, data
     on = range(fam.n_updates) if core is None else core
     for other in agreeing([(i, i in sel) for i in on], fam.n_updates):
         assert dijkstra(fam.specialize(other)) is None
+
+
+@SETTINGS
+@given(fam=families(max_atoms=5, max_actions=7), data=st.data())
+def test_ic3_on_the_abstraction_proves_only_unsolvable_models(fam: GroundFamily, data):
+    """The proof ``unsolvable_core``'s ``ic3_queries`` adds: IC3 finding the abstraction
+    with ``fixed`` updates unsolvable means every model agreeing on them has no plan."""
+    from mega_sat.search.pdr import Pdr
+
+    sel = data.draw(selections(fam.n_updates))
+    fixed = data.draw(_subsets(fam.n_updates))
+    with Pdr(abstract_task(fam, sel, fixed)) as pdr:
+        verdict = pdr.run()
+    others = agreeing([(i, i in sel) for i in fixed], fam.n_updates)
+    if verdict == Status.UNSOLVABLE:
+        assert all(dijkstra(fam.specialize(o)) is None for o in others)
+    else:
+        assert verdict == Status.PLAN
+
+
+def test_ic3_shrinks_the_cores_the_states_cannot():
+    """rover-martian Delta30 p2, the unsolvable model {1, 2, 6, 8, 14, 15}: its may-reachable
+    states run past their limits on 14 trials and the core keeps 14 updates; IC3 on those
+    trials' abstractions drops half of them.  The abstraction that fixes only the smaller
+    core has no plan (so every model agreeing on it has none)."""
+    from mega_sat.ground.grounding import ground
+    from mega_sat.pddl.loading import load_task_dir
+    from mega_sat.search.pdr import Pdr
+
+    root = Path(__file__).resolve().parent.parent
+    fam = ground(load_task_dir(root / "domains/rover-martian/delta/30/p2"))
+    sel = frozenset({1, 2, 6, 8, 14, 15})
+    kw = dict(work_limit=300_000, trial_limit=50_000)
+    without = unsolvable_core(fam, sel, **kw)
+    with_ic3 = unsolvable_core(fam, sel, **kw, ic3_queries=5000)
+    assert without is not None and with_ic3 is not None
+    assert len(with_ic3) <= len(without) // 2
+    with Pdr(abstract_task(fam, sel, with_ic3)) as pdr:
+        assert pdr.run() == Status.UNSOLVABLE
 
 
 @SETTINGS

@@ -441,6 +441,7 @@ def sat_frontier(
                             trial_growth=options.unsolvable_core_trial_growth,
                             deadline=deadline,
                             cut_short=short,
+                            ic3_queries=options.unsolvable_core_ic3_queries,
                         )
                         stats["unsolvable_core_cut_short"] += sum(short)
                 else:

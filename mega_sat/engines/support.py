@@ -82,6 +82,7 @@ def unsolvable_core(
     trial_growth: int = DEFAULT.unsolvable_core_trial_growth,
     deadline: Deadline | None = None,
     cut_short: list[int] | None = None,
+    ic3_queries: int = DEFAULT.unsolvable_core_ic3_queries,
 ) -> frozenset[int] | None:
     """A set ``S`` of updates such that every selection agreeing with ``selection`` on ``S`` has
     no plan, for an unsolvable ``human + selection``; ``None`` when nothing smaller than "all
@@ -98,7 +99,8 @@ def unsolvable_core(
     visit at most ``work_limit`` states in all (a count, not seconds, so that the core is the
     same on any machine; the model's own reachable states do not count), and one trial adds at
     most ``max(trial_growth * |R|, trial_limit)`` states; a proof cut short proves nothing
-    and keeps the update.  Once
+    and keeps the update; with ``ic3_queries`` > 0, IC3 on that abstraction (at most that many
+    SAT calls, :mod:`mega_sat.search.pdr`) then tries to prove it has no plan.  Once
     ``deadline`` has passed no update is tried any more: the updates not yet dropped stay in
     ``S``, which is still sound, only larger.  ``cut_short`` (a list) receives the number of
     trials whose proof ran out of states or time.
@@ -150,6 +152,16 @@ def unsolvable_core(
         seed = masks  # the trial becomes the fixed set
         return True
 
+    def invariant(trial: frozenset[int]) -> bool:
+        """IC3 proves the abstraction with ``trial`` fixed unsolvable: an invariant where
+        the pairs are too coarse and the states too many."""
+        if ic3_queries <= 0:
+            return False
+        from mega_sat.search.pdr import Pdr
+
+        with Pdr(abstract_task(family, selection, trial)) as pdr:
+            return pdr.run(ic3_queries, deadline=deadline) == Status.UNSOLVABLE
+
     fixed = everything
     for i in sorted(everything):
         if deadline.expired():
@@ -162,8 +174,8 @@ def unsolvable_core(
         verdict = searched(i)
         if verdict == Status.UNSOLVABLE:
             fixed = trial
-        elif verdict != Status.PLAN and paired(trial):
-            # the pair proof needs no states: it may succeed where R outgrew its limits
+        elif verdict != Status.PLAN and (paired(trial) or invariant(trial)):
+            # neither proof needs states: they may succeed where R outgrew its limits
             fixed = trial
             pending.add(i)
     if cut_short is not None:
