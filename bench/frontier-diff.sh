@@ -14,13 +14,8 @@ run_tree() {  # TREE LABEL
   for d in "$root"/domains/*/delta/{2,7,10}/p*; do
     name=$(echo "${d#"$root"/}" | tr / _)
     s=$(date +%s.%N)
-    (cd "$out" && PYTHONPATH=$1 timeout 600 "$py" -W ignore -c \
-      "import sys; sys.argv[0]='mega-sat'
-try:
-    from mega_sat.cli.commands import main
-except ImportError:
-    from mega_sat.cli import main
-main()" frontier --task "$d" --json --quiet > "$out/$2/$name.json" 2> "$out/$2/$name.err")
+    (cd "$out" && timeout 600 "$root/bench/mega-sat-from.sh" "$1" \
+      frontier --task "$d" --json --quiet > "$out/$2/$name.json" 2> "$out/$2/$name.err")
     echo "$name $(echo "$(date +%s.%N) - $s" | bc)" >> "$out/$2/times.txt"
   done
 }

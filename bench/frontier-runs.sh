@@ -7,15 +7,13 @@
 set -u
 out=$1; limit=$2; pattern=$3; shift 3
 mkdir -p "$out"
-tree=${TREE:-}
+tree=${TREE:+$(realpath "$TREE")}  # resolved before the runs change directory
 for t in $pattern; do
   name=$(echo "$t" | sed 's#domains/##; s#/delta/#-d#; s#/#-#g')
   s=$(date +%s.%N)
   if [ -n "$tree" ]; then  # from OUT, so that the current directory does not shadow TREE
-    (cd "$out" && PYTHONPATH=$(realpath "$tree") timeout $((${limit%.*} + 30)) \
-      "$OLDPWD/.venv/bin/python" -W ignore -c "import sys; sys.argv[0] = 'mega-sat'
-from mega_sat.cli.commands import main
-main()" frontier --task "$OLDPWD/$t" --timeout "$limit" --json --quiet "$@" \
+    (cd "$out" && timeout $((${limit%.*} + 30)) "$OLDPWD/bench/mega-sat-from.sh" "$tree" \
+      frontier --task "$OLDPWD/$t" --timeout "$limit" --json --quiet "$@" \
       > "$name.json" 2> "$name.err")
   else
     timeout $((${limit%.*} + 30)) .venv/bin/mega-sat frontier --task "$t" --timeout "$limit" \

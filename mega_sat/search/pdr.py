@@ -203,7 +203,7 @@ class Pdr:
         deadline = deadline if deadline is not None else NO_DEADLINE
         if self.task.goal <= self.init:
             return Status.PLAN
-        goal = [self._x[p] for p in sorted(self.task.goal)]
+        goal = self._now(self._goal)
         if not self._levels:
             self._new_level()
         while True:
