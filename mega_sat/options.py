@@ -391,6 +391,26 @@ class Options:
             "takes about a tenth of its time)"
         },
     )
+    race_search_vector_work: float = field(
+        default=0.0,
+        metadata={
+            "zero": True,
+            "doc": "the work, in the race's units, of one vectorised expansion (past the first "
+            "2048) of the explicit side's uniform-cost search per action and 64-atom word of "
+            "state it tests, at most 1 per expansion, in its turns with LM-cut and in the work "
+            "it reports to the referee; 0: 1 per expansion, as a pure-Python one.  With "
+            "about 0.0005 a unit of the search takes about as long as one of SAT's on the "
+            "shipped domains (bench/README.md)",
+        },
+    )
+    race_search_relevant_part: bool = field(
+        default=False,
+        metadata={
+            "doc": "the explicit side searches the relevant part of each model (the same "
+            "optimum, plans that run in the model, often far fewer states; other plans lead "
+            "the loop other ways, bench/README.md)"
+        },
+    )
     race_states_per_lp_action: int = field(
         default=20,
         metadata={

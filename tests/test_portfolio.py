@@ -5,6 +5,7 @@ that brute force finds, and the answer names the method that gave it."""
 from __future__ import annotations
 
 import os
+from dataclasses import replace
 
 import pytest
 from helpers.fuzzing import oracle_settings
@@ -27,12 +28,15 @@ from mega_sat.search.astar import (
 
 
 @pytest.mark.parametrize("forked", [True, False])
+@pytest.mark.parametrize("search", ["whole", "relevant-vector"])
 @oracle_settings(40, suppress_health_check=())
 @given(fam=families(), data=st.data())
-def test_portfolio_gives_the_optimum(forked: bool, fam: GroundFamily, data):
+def test_portfolio_gives_the_optimum(forked: bool, search: str, fam: GroundFamily, data):
     if forked and not hasattr(os, "fork"):
         pytest.skip("no fork here")
     opts = Options(race_processes=forked, race_first_conflicts=1)
+    if search == "relevant-vector":
+        opts = replace(opts, race_search_relevant_part=True, race_search_vector_work=0.0005)
     planner = NodePlanner(None, fam, "portfolio", options=opts)
     for _ in range(3):
         sel = data.draw(selections(fam.n_updates))
@@ -149,6 +153,123 @@ def test_lmcut_answers_where_blind_search_is_hopeless():
 
 def _ends(task):
     return sum(1 << p for p in task.init), sum(1 << p for p in task.goal)
+
+
+def _switches(n: int):
+    """``n`` switches, each turned on once at cost 1, and a goal of all on: uniform-cost
+    search expands the 2^n - 1 states short of the goal."""
+    from mega_sat.ground.family import GroundTask, StripsAction
+
+    f = frozenset
+    acts = tuple(StripsAction(i, "on", (str(i),), f(), f({i}), f({i}), f(), 1) for i in range(n))
+    return GroundTask(tuple(("on", str(i)) for i in range(n)), acts, f(), f(range(n)))
+
+
+def test_the_explicit_side_searches_the_relevant_part():
+    """A walk along a corridor that marks each cell visited, a mark nothing reads: with
+    ``relevant`` the explicit side searches the corridor alone (states: positions, not
+    positions times marks), and its plan runs in the task at the optimal cost."""
+    from mega_sat.ground.family import GroundTask, StripsAction
+    from mega_sat.ground.relevance import relevant_part
+
+    n, f = 30, frozenset
+    at, seen = list(range(n)), list(range(n, 2 * n))
+    acts = []
+    for i in range(n - 1):
+        for a, b in ((i, i + 1), (i + 1, i)):
+            acts.append(StripsAction(len(acts), "go", (str(a), str(b)), f({at[a]}), f(),
+                                     f({at[b], seen[b]}), f({at[a]}), 1))  # fmt: skip
+    atoms = tuple(("at", str(i)) for i in range(n)) + tuple(("seen", str(i)) for i in range(n))
+    task = GroundTask(atoms, tuple(acts), f({at[0]}), f({at[n - 1]}))
+    part = relevant_part(task)
+    assert part.goal == task.goal and len(part.actions) == len(task.actions)
+
+    def run(steps):
+        try:
+            while True:
+                next(steps)
+        except StopIteration as done:
+            return done.value
+
+    ours = run(explicit_steps(task, 1e9, relevant=True))
+    whole = run(blind_and_lmcut_steps(task, *_ends(task), 1e9))
+    assert run(explicit_steps(task, 1e9)) == whole  # the default: the whole model
+    assert ours == run(blind_and_lmcut_steps(part, *_ends(part), 1e9))
+    assert ours[3] < whole[3]  # fewer states than the search on the whole task
+    assert ours[2] == whole[2] == n - 1 == plan_cost(task, ours[1])
+
+
+@pytest.mark.parametrize("forked", [True, False])
+def test_the_explicit_side_options_reach_its_search(monkeypatch, forked: bool):
+    """``race_search_vector_work`` and ``race_search_relevant_part`` reach the explicit
+    side, forked or in turns: the vectorised expansion's weight is the option times actions
+    times words of the searched (relevant) part, at most 1."""
+    from helpers.minitasks import usar_like
+
+    import mega_sat.planners.node_planner as np_mod
+    from mega_sat.ground.grounding import ground
+    from mega_sat.ground.relevance import relevant_part
+
+    if forked and not hasattr(os, "fork"):
+        pytest.skip("no fork here")
+    seen = []
+    real, real_child = np_mod.explicit_steps, np_mod.ForkedSearch
+
+    def spy(task, lmcut_weight, vector_weight=1.0, relevant=False):
+        seen.append((vector_weight, relevant))
+        return real(task, lmcut_weight, vector_weight, relevant)
+
+    def child_spy(task, lmcut_weight, vector_weight=1.0, *, relevant=False):
+        seen.append((vector_weight, relevant))
+        return real_child(task, lmcut_weight, vector_weight, relevant=relevant)
+
+    monkeypatch.setattr(np_mod, "explicit_steps", spy)
+    monkeypatch.setattr(np_mod, "ForkedSearch", child_spy)
+    fam = ground(usar_like())
+    opts = Options(race_processes=forked, race_search_vector_work=0.001,
+                   race_search_relevant_part=True)  # fmt: skip
+    planner = NodePlanner(None, fam, "portfolio", options=opts)
+    r = planner.optimal(frozenset())
+    assert r.cost == dijkstra(fam.specialize(frozenset()))
+    part = relevant_part(fam.specialize(frozenset()))
+    mutable = {p for a in part.actions for p in (*a.add, *a.delete)}
+    weight = min(1.0, 0.001 * len(part.actions) * (-(-len(mutable) // 64)))
+    assert 0 < weight < 1
+    assert seen == [(weight, True)]  # forked: the child's arguments, taken in this process
+    assert np_mod.vector_weight(part, replace(opts, race_search_vector_work=0)) == 1.0
+
+
+def test_vectorised_expansions_count_at_their_weight_in_the_turns_and_the_child():
+    """Past ``VECTOR_AFTER`` expansions uniform-cost search runs vectorised, and each
+    expansion counts ``vector_weight`` of work (``uniform_cost_work``): in the turns with
+    LM-cut and in the work the forked child reports to the referee.  LM-cut's one turn here
+    costs 10^9, so uniform-cost search runs through and the work splits exactly."""
+    from mega_sat.search.astar import VECTOR_AFTER, uniform_cost_work
+
+    task = _switches(13)
+    ends = {}
+    for w in (1.0, 0.1):
+        steps = explicit_steps(task, 1e9, w)
+        try:
+            while True:
+                next(steps)
+        except StopIteration as done:
+            ends[w] = done.value
+    status, plan, cost, whole, method = ends[1.0]
+    assert (status, cost, method) == ("optimal", 13, "uniform-cost search")
+    assert ends[0.1][:3] == ends[1.0][:3] and ends[0.1][4] == method
+    turns, expanded = divmod(whole, 1e9)
+    assert turns >= 1 and expanded > VECTOR_AFTER
+    assert ends[0.1][3] == turns * 1e9 + uniform_cost_work(int(expanded), 0.1)
+    if not hasattr(os, "fork"):
+        return
+    child = ForkedSearch(task, 1e9, 0.1)
+    try:
+        assert child.result(30.0)[:3] == ends[0.1][:3]
+        done, work = child.progress(1 << 62, Deadline.after(30.0))
+    finally:
+        child.stop()
+    assert done and work == int(ends[0.1][3])
 
 
 def test_the_portfolio_answers_alike_run_after_run():

@@ -385,27 +385,38 @@ def _evaluations(steps):
 
 
 def blind_and_lmcut_steps(
-    task: GroundTask, init: int, goal: int, lmcut_weight: float, node_limit: int | None = None
+    task: GroundTask,
+    init: int,
+    goal: int,
+    lmcut_weight: float,
+    node_limit: int | None = None,
+    vector_weight: float = 1.0,
 ):
     """Uniform-cost search and A* with LM-cut on the same task, taking turns by work, as a
-    generator: it yields the work spent so far (uniform-cost expansions plus ``lmcut_weight``
-    per LM-cut evaluation) and returns ``(status, plan, cost, work, method)`` from whichever
-    ends first.  Both are exact, so either answer is a proof; blind search wins on small
-    state spaces, LM-cut where the heuristic prunes most of the space (it can expand a few
-    hundred states where blind search expands hundreds of thousands).  Turns follow the work
-    counts only, so every run ends the same way.  ``node_limit`` caps each search's
-    expansions (``LIMIT`` once both are capped)."""
+    generator: it yields the work spent so far (uniform-cost expansions, ``vector_weight``
+    each past the first ``VECTOR_AFTER``, where they run vectorised: :func:`uniform_cost_work`;
+    plus ``lmcut_weight`` per LM-cut evaluation) and returns ``(status, plan, cost, work,
+    method)`` from whichever ends first.  Both are exact, so either answer is a proof; blind
+    search wins on small state spaces, LM-cut where the heuristic prunes most of the space (it
+    can expand a few hundred states where blind search expands hundreds of thousands).  Turns
+    follow the work counts only, so every run ends the same way.  ``node_limit`` caps each
+    search's expansions (``LIMIT`` once both are capped)."""
     informed = astar_steps(task, init, goal, "lmcut", node_limit, every=1)
     work = {"uniform-cost search": 0.0, "A* with LM-cut": 0.0}
     running = {
         "uniform-cost search": uniform_cost_steps(task, init, goal, node_limit),
         "A* with LM-cut": _evaluations(informed),
     }
-    weight = {"uniform-cost search": 1.0, "A* with LM-cut": lmcut_weight}
+
+    def weighed(method: str, count: int) -> float:
+        if method == "uniform-cost search":
+            return uniform_cost_work(count, vector_weight)
+        return lmcut_weight * count
+
     while running:
         method = min(running, key=lambda m: (work[m], m))
         try:
-            work[method] = weight[method] * next(running[method])
+            work[method] = weighed(method, next(running[method]))
         except StopIteration as done:
             status, plan, cost = done.value[:3]
             if status.decided:
