@@ -16,7 +16,12 @@ from hypothesis import strategies as st
 from mega_sat.deadline import Deadline
 from mega_sat.ground.family import GroundFamily
 from mega_sat.options import Options
-from mega_sat.planners.node_planner import ForkedSearch, NodePlanner, explicit_steps
+from mega_sat.planners.node_planner import (
+    ForkedSearch,
+    NodePlanner,
+    explicit_side,
+    explicit_steps,
+)
 from mega_sat.planners.tiered_opt import TieredOpt
 from mega_sat.search.astar import (
     _uniform_cost,
@@ -167,8 +172,9 @@ def _switches(n: int):
 
 def test_the_explicit_side_searches_the_relevant_part():
     """A walk along a corridor that marks each cell visited, a mark nothing reads: with
-    ``relevant`` the explicit side searches the corridor alone (states: positions, not
-    positions times marks), and its plan runs in the task at the optimal cost."""
+    ``race_search_relevant_part`` the explicit side searches the corridor alone (states:
+    positions, not positions times marks), and its plan runs in the task at the optimal
+    cost."""
     from mega_sat.ground.family import GroundTask, StripsAction
     from mega_sat.ground.relevance import relevant_part
 
@@ -191,9 +197,10 @@ def test_the_explicit_side_searches_the_relevant_part():
         except StopIteration as done:
             return done.value
 
-    ours = run(explicit_steps(task, 1e9, relevant=True))
+    searched, _, _ = explicit_side(task, Options(race_search_relevant_part=True))
+    assert explicit_side(task, Options())[0] is task  # the default: the whole model
+    ours = run(explicit_steps(searched, 1e9))
     whole = run(blind_and_lmcut_steps(task, *_ends(task), 1e9))
-    assert run(explicit_steps(task, 1e9)) == whole  # the default: the whole model
     assert ours == run(blind_and_lmcut_steps(part, *_ends(part), 1e9))
     assert ours[3] < whole[3]  # fewer states than the search on the whole task
     assert ours[2] == whole[2] == n - 1 == plan_cost(task, ours[1])
@@ -215,13 +222,13 @@ def test_the_explicit_side_options_reach_its_search(monkeypatch, forked: bool):
     seen = []
     real, real_child = np_mod.explicit_steps, np_mod.ForkedSearch
 
-    def spy(task, lmcut_weight, vector_weight=1.0, relevant=False):
-        seen.append((vector_weight, relevant))
-        return real(task, lmcut_weight, vector_weight, relevant)
+    def spy(task, lmcut_weight, vector_weight=1.0):
+        seen.append((vector_weight, task))
+        return real(task, lmcut_weight, vector_weight)
 
-    def child_spy(task, lmcut_weight, vector_weight=1.0, *, relevant=False):
-        seen.append((vector_weight, relevant))
-        return real_child(task, lmcut_weight, vector_weight, relevant=relevant)
+    def child_spy(task, lmcut_weight, vector_weight=1.0):
+        seen.append((vector_weight, task))
+        return real_child(task, lmcut_weight, vector_weight)
 
     monkeypatch.setattr(np_mod, "explicit_steps", spy)
     monkeypatch.setattr(np_mod, "ForkedSearch", child_spy)
@@ -235,7 +242,7 @@ def test_the_explicit_side_options_reach_its_search(monkeypatch, forked: bool):
     mutable = {p for a in part.actions for p in (*a.add, *a.delete)}
     weight = min(1.0, 0.001 * len(part.actions) * (-(-len(mutable) // 64)))
     assert 0 < weight < 1
-    assert seen == [(weight, True)]  # forked: the child's arguments, taken in this process
+    assert seen == [(weight, part)]  # forked: the child's arguments, taken in this process
     assert np_mod.vector_weight(part, replace(opts, race_search_vector_work=0)) == 1.0
 
 

@@ -307,10 +307,7 @@ class NodePlanner:
         start, clauses, side = solving.conflicts(), enc.n_clauses, solving.side_work
         if start is None:  # a solver that does not count conflicts: no referee possible
             return self._race(sel, task, call, t0)
-        child = ForkedSearch(
-            task, lmcut_weight(task, opts), vector_weight(task, opts),
-            relevant=opts.race_search_relevant_part,
-        )  # fmt: skip
+        child = ForkedSearch(*explicit_side(task, opts))
         fd_after = (
             opts.race_fd_after_work if opts.race_fd_after_work and self._fd_installed() else 0
         )
@@ -430,11 +427,7 @@ class NodePlanner:
         goes first.  Turns are counted in work, not seconds, so every run answers alike."""
         from mega_sat.sat.oracles import OracleInterrupted
 
-        opts = self.options
-        search = explicit_steps(
-            task, lmcut_weight(task, opts), vector_weight(task, opts),
-            opts.race_search_relevant_part,
-        )  # fmt: skip
+        search = explicit_steps(*explicit_side(task, self.options))
         methods = [self._first] + [m for m in ("builtin", "sat") if m != self._first]
         conflicts = self.options.race_first_conflicts
         why = "time limit"
@@ -480,41 +473,43 @@ def _spent(solving, allowed: int):
     return lambda: (solving.conflicts() or 0) - start >= allowed
 
 
-def explicit_steps(
-    task: GroundTask, lmcut_weight: float, vector_weight: float = 1.0, relevant: bool = False
-):
-    """The portfolio's explicit side on ``task``: uniform-cost search and A* with LM-cut by
-    turns (:func:`mega_sat.search.astar.blind_and_lmcut_steps`); a generator of work done,
-    returning ``(status, plan, cost, work, method)``.  ``relevant``: both search the relevant
-    part of ``task`` (:func:`mega_sat.ground.relevance.relevant_part`): the same optimum, plans
-    that run unchanged in ``task``, and often far fewer states, since atoms no goal or
-    condition reads (a place already visited) no longer tell states apart."""
-    from mega_sat.search.astar import blind_and_lmcut_steps
-
-    if relevant:
+def explicit_side(task: GroundTask, options: Options) -> tuple[GroundTask, float, float]:
+    """What the race's explicit side searches for the model ``task`` and how its work
+    counts: the task itself, or its relevant part with ``Options.race_search_relevant_part``
+    (:func:`mega_sat.ground.relevance.relevant_part`: the same optimum, plans that run
+    unchanged in ``task``, and often far fewer states, since atoms no goal or condition reads
+    no longer tell states apart); the weight of an LM-cut evaluation (from ``task``); and the
+    weight of a vectorised expansion (:func:`vector_weight`, from the task searched)."""
+    searched = task
+    if options.race_search_relevant_part:
         from mega_sat.ground.relevance import relevant_part
 
-        task = relevant_part(task)
+        searched = relevant_part(task)
+    return searched, lmcut_weight(task, options), vector_weight(searched, options)
+
+
+def explicit_steps(task: GroundTask, lmcut_weight: float, vector_weight: float = 1.0):
+    """The portfolio's explicit side on ``task``: uniform-cost search and A* with LM-cut by
+    turns (:func:`mega_sat.search.astar.blind_and_lmcut_steps`); a generator of work done,
+    returning ``(status, plan, cost, work, method)``."""
+    from mega_sat.search.astar import blind_and_lmcut_steps
+
     init = sum(1 << p for p in task.init)
     goal = sum(1 << p for p in task.goal)
     return blind_and_lmcut_steps(task, init, goal, lmcut_weight, vector_weight=vector_weight)
 
 
 def vector_weight(task: GroundTask, options: Options) -> float:
-    """The work of one vectorised uniform-cost expansion on the explicit side: its numpy
-    passes test every action against every word of the state, so their time grows with
-    actions times words (``Options.race_search_vector_work``; 1 when that is 0).  Words count
-    the atoms some action changes, as the search stores them, on the part of ``task`` the
-    explicit side searches."""
+    """The work of one vectorised uniform-cost expansion of ``task`` on the explicit side: its
+    numpy passes test every action against every word of the state, so their time grows with
+    actions times words (``Options.race_search_vector_work``; 1 when that is 0)."""
     per_test = options.race_search_vector_work
     if per_test <= 0:
         return 1.0
-    if options.race_search_relevant_part:
-        from mega_sat.ground.relevance import relevant_part
+    # numpy's import is paid only by runs that set the option
+    from mega_sat.search.vector_search import mutable_atoms, state_words
 
-        task = relevant_part(task)
-    mutable = {p for a in task.actions for p in (*a.add, *a.delete)}
-    words = max(1, -(-len(mutable) // 64))
+    words = state_words(len(mutable_atoms(task)))
     return min(1.0, per_test * len(task.actions) * words)
 
 
@@ -531,14 +526,7 @@ class ForkedSearch:
     Ctrl-C (the parent stops it) and leaves by ``os._exit``, so it never flushes the parent's
     buffered output."""
 
-    def __init__(
-        self,
-        task: GroundTask,
-        lmcut_weight: float,
-        vector_weight: float = 1.0,
-        *,
-        relevant: bool = False,
-    ):
+    def __init__(self, task: GroundTask, lmcut_weight: float, vector_weight: float = 1.0):
         import mmap
         import warnings
 
@@ -557,7 +545,7 @@ class ForkedSearch:
 
                 signal.signal(signal.SIGINT, signal.SIG_IGN)
                 os.close(self._read)
-                steps = explicit_steps(task, lmcut_weight, vector_weight, relevant)
+                steps = explicit_steps(task, lmcut_weight, vector_weight)
                 try:
                     while True:
                         struct.pack_into("<q", self._counter, 0, int(next(steps)))

@@ -102,13 +102,23 @@ class _Closed:
             self.levels[-1], self.rows[-1] = self.levels[-1][order], self.rows[-1][order]
 
 
+def mutable_atoms(task: GroundTask) -> list[int]:
+    """The atoms some action adds or deletes, sorted: the ones a state stores."""
+    return sorted({p for a in task.actions for p in (*a.add, *a.delete)})
+
+
+def state_words(n_atoms: int) -> int:
+    """The 64-bit words of a state that stores ``n_atoms`` atoms (at least one)."""
+    return max(1, -(-n_atoms // _WORD))
+
+
 class _Layout:
     """The search's view of ``task``: actions in generation order as word arrays."""
 
     def __init__(self, task: GroundTask, order: list[int]):
-        mutable = sorted({p for a in task.actions for p in (*a.add, *a.delete)})
+        mutable = mutable_atoms(task)
         pos = {p: i for i, p in enumerate(mutable)}
-        self.n_words = w = max(1, -(-len(mutable) // _WORD))
+        self.n_words = w = state_words(len(mutable))
         init = set(task.init)
         rows, pre, neg, keep, add = [], [], [], [], []
         for j in order:
