@@ -250,13 +250,22 @@ class Options:
         },
     )
     unsolvable_core_ic3_queries: int = field(
-        default=0,
+        default=5000,
         metadata={
             "zero": True,
             "doc": "SAT calls of IC3 on the abstraction of an update's trial in that proof, "
-            "where its states ran past their limits and the pair proof failed (0: off). "
-            "Smaller exclusions where the states outgrow the limits; off by default since "
-            "on other tasks the proofs cost more than they save (bench/README.md)",
+            "where its states ran past their limits and the pair proof failed (0: off); "
+            "each run starts from the lemmas of the core's last invariant. Smaller "
+            "exclusions where the states outgrow the limits (bench/README.md)",
+        },
+    )
+    unsolvable_core_ic3_misses: int = field(
+        default=5,
+        metadata={
+            "zero": True,
+            "doc": "runs of that IC3 in a row that reach their limit without a proof (runs "
+            "that find a plan do not count) after which a run stops trying it (0: never "
+            "stops)",
         },
     )
     joint_sat_conflicts: int = field(

@@ -127,12 +127,130 @@ def test_ic3_shrinks_the_cores_the_states_cannot():
     fam = ground(load_task_dir(root / "domains/rover-martian/delta/30/p2"))
     sel = frozenset({1, 2, 6, 8, 14, 15})
     kw = dict(work_limit=300_000, trial_limit=50_000)
-    without = unsolvable_core(fam, sel, **kw)
+    without = unsolvable_core(fam, sel, **kw, ic3_queries=0)
     with_ic3 = unsolvable_core(fam, sel, **kw, ic3_queries=5000)
     assert without is not None and with_ic3 is not None
     assert len(with_ic3) <= len(without) // 2
     with Pdr(abstract_task(fam, sel, with_ic3)) as pdr:
         assert pdr.run() == Status.UNSOLVABLE
+
+
+def test_ic3_in_a_core_starts_from_the_last_invariant(monkeypatch):
+    """The same model: each IC3 run of the core after a proof starts from that proof's
+    invariant, and the proofs after the first take a small share of the first's SAT calls
+    (without the seed each takes as many as the first)."""
+    from mega_sat.ground.grounding import ground
+    from mega_sat.pddl.loading import load_task_dir
+    from mega_sat.search import pdr as pdr_module
+
+    runs: list[tuple[int, tuple, Status, int]] = []  # (seeded cubes, invariant, verdict, calls)
+    real_seed, real_run = pdr_module.Pdr.seed, pdr_module.Pdr.run
+
+    def seed(self, cubes):
+        self.seeded = tuple(cubes)
+        return real_seed(self, cubes)
+
+    def run(self, query_limit=None, deadline=None):
+        verdict = real_run(self, query_limit, deadline)
+        inv = self.invariant() if verdict == Status.UNSOLVABLE else ()
+        runs.append((getattr(self, "seeded", ()), inv, verdict, self.queries))
+        return verdict
+
+    monkeypatch.setattr(pdr_module.Pdr, "seed", seed)
+    monkeypatch.setattr(pdr_module.Pdr, "run", run)
+    root = Path(__file__).resolve().parent.parent
+    fam = ground(load_task_dir(root / "domains/rover-martian/delta/30/p2"))
+    sel = frozenset({1, 2, 6, 8, 14, 15})
+    unsolvable_core(fam, sel, work_limit=300_000, trial_limit=50_000, ic3_queries=5000)
+    proofs = [k for k, r in enumerate(runs) if r[2] == Status.UNSOLVABLE]
+    assert len(proofs) >= 4
+    assert runs[proofs[0]][0] == ()  # nothing to start from yet
+    last = ()
+    for seeded, inv, verdict, _ in runs:
+        assert seeded == last
+        last = inv if verdict == Status.UNSOLVABLE else last
+    first = runs[proofs[0]][3]
+    assert all(runs[k][3] * 5 <= first for k in proofs[1:])
+
+
+def test_ic3_stops_for_the_run_after_misses_in_a_row(monkeypatch):
+    """``Ic3Streak``: runs at their limit count, a proof resets the count, a plan changes
+    nothing; once closed, a core tries no IC3 and is the core without it."""
+    from mega_sat.engines.support import Ic3Streak
+    from mega_sat.ground.grounding import ground
+    from mega_sat.pddl.loading import load_task_dir
+    from mega_sat.search import pdr as pdr_module
+
+    streak = Ic3Streak(2)
+    for verdict in (Status.LIMIT, Status.PLAN, Status.UNSOLVABLE, Status.LIMIT):
+        streak.record(verdict)
+    assert streak.misses == 1 and streak.open()
+    streak.record(Status.LIMIT)
+    assert not streak.open()
+    assert Ic3Streak(0).open()  # 0: never stops
+
+    runs: list[int] = []
+    real_run = pdr_module.Pdr.run
+    monkeypatch.setattr(
+        pdr_module.Pdr, "run", lambda self, *a, **k: runs.append(1) or real_run(self, *a, **k)
+    )
+    root = Path(__file__).resolve().parent.parent
+    fam = ground(load_task_dir(root / "domains/rover-martian/delta/30/p2"))
+    sel = frozenset({1, 2, 6, 8, 14, 15})
+    kw = dict(work_limit=300_000, trial_limit=50_000)
+    closed = unsolvable_core(fam, sel, **kw, ic3_queries=5000, ic3_streak=streak)
+    assert runs == []
+    assert closed == unsolvable_core(fam, sel, **kw, ic3_queries=0)
+
+
+def test_the_loop_shares_one_streak_across_its_cores(monkeypatch):
+    """The options reach every unsolvable core of a run, with one ``Ic3Streak`` for all."""
+    from mega_sat.api import MegaSolver
+    from mega_sat.engines import sat_loop
+    from mega_sat.options import Options
+    from mega_sat.pddl.loading import load_task_dir
+
+    seen: list[dict] = []
+    real = sat_loop.unsolvable_core
+
+    def spy(*args, **kwargs):
+        seen.append(kwargs)
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(sat_loop, "unsolvable_core", spy)
+    root = Path(__file__).resolve().parent.parent
+    task = load_task_dir(root / "domains/usar-fetch/delta/20/p1")
+    opts = Options(unsolvable_core_ic3_queries=700, unsolvable_core_ic3_misses=3)
+    assert MegaSolver(task, options=opts).frontier().exact
+    assert len(seen) >= 2
+    assert {k["ic3_queries"] for k in seen} == {700}
+    assert len({id(k["ic3_streak"]) for k in seen}) == 1
+    assert seen[0]["ic3_streak"].limit == 3
+
+
+@SETTINGS
+@given(fam=families(max_atoms=5, max_actions=7), data=st.data())
+def test_seeded_ic3_gives_the_verdict_of_ic3_alone(fam: GroundFamily, data):
+    """IC3 on an abstraction started from the invariant of a coarser trial's abstraction (it
+    fixes more updates) answers as IC3 from nothing does, on random families."""
+    from mega_sat.search.pdr import Pdr
+
+    sel = data.draw(selections(fam.n_updates))
+    fixed = data.draw(_subsets(fam.n_updates))
+    fewer = data.draw(st.sets(st.sampled_from(sorted(fixed))) if fixed else st.just(set()))
+    trial = frozenset(fixed) - frozenset(fewer)
+    with Pdr(abstract_task(fam, sel, fixed)) as pdr:
+        if pdr.run() != Status.UNSOLVABLE:
+            return
+        cubes = pdr.invariant()
+    with Pdr(abstract_task(fam, sel, trial)) as alone:
+        expected = alone.run()
+    with Pdr(abstract_task(fam, sel, trial)) as seeded:
+        seeded.seed(cubes)
+        assert seeded.run() == expected
+    if expected == Status.UNSOLVABLE:
+        others = agreeing([(i, i in sel) for i in trial], fam.n_updates)
+        assert all(dijkstra(fam.specialize(o)) is None for o in others)
 
 
 @SETTINGS

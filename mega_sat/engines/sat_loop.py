@@ -28,7 +28,12 @@ from mega_sat.analysis.monotone import drop_relaxing, drop_restricting
 from mega_sat.deadline import Deadline, TimeLimitReached
 from mega_sat.engines.hitting_set import make_hitting_set
 from mega_sat.engines.progress import Progress, lower_bound_note
-from mega_sat.engines.support import causal_support, exclusion_clause, unsolvable_core
+from mega_sat.engines.support import (
+    Ic3Streak,
+    causal_support,
+    exclusion_clause,
+    unsolvable_core,
+)
 from mega_sat.ground.family import GroundFamily
 from mega_sat.ground.simulate import ground_plan_cost
 from mega_sat.model.task import TwoModelTask
@@ -343,6 +348,7 @@ def sat_frontier(
     progress.stats = stats
     pairs = JointPairs(family) if options.joint_pair_proofs else None
     inv_cores: InvariantCores | None = None  # built at the first IC3 invariant
+    ic3_streak = Ic3Streak(options.unsolvable_core_ic3_misses)  # shared by the run's cores
     try:
         # updates every solution needs, proven once: each a unit clause.  A robot plan that
         # runs in the human model is a joint plan of E = {}: then there are none to prove.
@@ -442,6 +448,7 @@ def sat_frontier(
                             deadline=deadline,
                             cut_short=short,
                             ic3_queries=options.unsolvable_core_ic3_queries,
+                            ic3_streak=ic3_streak,
                         )
                         stats["unsolvable_core_cut_short"] += sum(short)
                 else:

@@ -72,6 +72,28 @@ def _relaxed_goal_reachable(
     return all(p in reached for p, g in family.goal if present(g, False))
 
 
+class Ic3Streak:
+    """IC3's record on the cut-short trials of one run's unsolvable cores: after ``limit``
+    runs in a row that reach their query limit (no proof between them; a run that finds the
+    abstraction has a plan does not count), IC3 is not tried again in the run.  Where the
+    invariants exist, the proofs come early and in runs; where none is found within the
+    limit, each run costs the whole limit and proves nothing.  Counted in runs, not
+    seconds, so the cores are the same on any machine."""
+
+    def __init__(self, limit: int):
+        self.limit = limit
+        self.misses = 0
+
+    def open(self) -> bool:
+        return self.limit <= 0 or self.misses < self.limit
+
+    def record(self, verdict: Status) -> None:
+        if verdict == Status.UNSOLVABLE:
+            self.misses = 0
+        elif verdict != Status.PLAN:
+            self.misses += 1
+
+
 def unsolvable_core(
     family: GroundFamily,
     selection: frozenset[int],
@@ -83,6 +105,7 @@ def unsolvable_core(
     deadline: Deadline | None = None,
     cut_short: list[int] | None = None,
     ic3_queries: int = DEFAULT.unsolvable_core_ic3_queries,
+    ic3_streak: Ic3Streak | None = None,
 ) -> frozenset[int] | None:
     """A set ``S`` of updates such that every selection agreeing with ``selection`` on ``S`` has
     no plan, for an unsolvable ``human + selection``; ``None`` when nothing smaller than "all
@@ -100,7 +123,8 @@ def unsolvable_core(
     same on any machine; the model's own reachable states do not count), and one trial adds at
     most ``max(trial_growth * |R|, trial_limit)`` states; a proof cut short proves nothing
     and keeps the update; with ``ic3_queries`` > 0, IC3 on that abstraction (at most that many
-    SAT calls, :mod:`mega_sat.search.pdr`) then tries to prove it has no plan.  Once
+    SAT calls, :mod:`mega_sat.search.pdr`, starting from the core's last invariant) then
+    tries to prove it has no plan, while ``ic3_streak`` (shared by a run's cores) is open.  Once
     ``deadline`` has passed no update is tried any more: the updates not yet dropped stay in
     ``S``, which is still sound, only larger.  ``cut_short`` (a list) receives the number of
     trials whose proof ran out of states or time.
@@ -152,15 +176,28 @@ def unsolvable_core(
         seed = masks  # the trial becomes the fixed set
         return True
 
+    # the cubes of the last invariant IC3 found: the next trial frees one more update, and
+    # its abstraction (same atom ids) often keeps most of them
+    lemmas: tuple = ()
+
     def invariant(trial: frozenset[int]) -> bool:
         """IC3 proves the abstraction with ``trial`` fixed unsolvable: an invariant where
         the pairs are too coarse and the states too many."""
-        if ic3_queries <= 0:
+        nonlocal lemmas
+        if ic3_queries <= 0 or (ic3_streak is not None and not ic3_streak.open()):
             return False
         from mega_sat.search.pdr import Pdr
 
         with Pdr(abstract_task(family, selection, trial)) as pdr:
-            return pdr.run(ic3_queries, deadline=deadline) == Status.UNSOLVABLE
+            if lemmas:
+                pdr.seed(lemmas)
+            verdict = pdr.run(ic3_queries, deadline=deadline)
+            if ic3_streak is not None and verdict != Status.TIMEOUT:
+                ic3_streak.record(verdict)
+            if verdict != Status.UNSOLVABLE:
+                return False
+            lemmas = pdr.invariant()
+            return True
 
     fixed = everything
     for i in sorted(everything):
