@@ -189,8 +189,7 @@ def unsolvable_core(
         from mega_sat.search.pdr import Pdr
 
         with Pdr(abstract_task(family, selection, trial)) as pdr:
-            if lemmas:
-                pdr.seed(lemmas)
+            pdr.seed(lemmas)  # no cubes yet: only the first frame, as run() would make
             verdict = pdr.run(ic3_queries, deadline=deadline)
             if ic3_streak is not None and verdict != Status.TIMEOUT:
                 ic3_streak.record(verdict)
