@@ -21,6 +21,12 @@ most 1.5x the best configuration", and a configuration stopped at the default's 
 be 1.5x faster than it, so the verdict is the same at a fraction of the machine time; the
 table marks such a best time with ``>``.  Used for the scaling suite, whose slow
 configurations would otherwise run to the limit on every task.
+
+``--repeat N``: a run that takes under ``--repeat-below`` seconds (5) is run N times in all
+and its fastest run counts (every run's wall seconds are kept in ``walls_s``).  A single
+run of half a second varies by a third from one run to the next on this machine, more than
+the 1.5x the target allows between configurations; the fastest of a few is the usual
+estimate of what the code itself costs.
 """
 
 from __future__ import annotations
@@ -74,6 +80,21 @@ def run(task: str, args: list[str], limit: float, engine: str = "sat") -> dict:
     return rec
 
 
+def run_best(
+    task: str, args: list[str], limit: float, repeat: int, below: float, engine: str = "sat"
+) -> dict:
+    """:func:`run`, repeated up to ``repeat`` times in all while its runs take under
+    ``below`` seconds: the record of the fastest, with every run's wall seconds."""
+    recs = [run(task, args, limit, engine)]
+    while len(recs) < repeat and max(r["wall_s"] for r in recs) < below:
+        recs.append(run(task, args, limit, engine))
+    done = "exact" if engine == "sat" else "complete"
+    best = min(recs, key=lambda r: (not r.get(done), r["wall_s"]))
+    if len(recs) > 1:
+        best = {**best, "walls_s": [r["wall_s"] for r in recs]}
+    return best
+
+
 def fd_installed() -> bool:
     try:
         from mega_sat.planners.fast_downward import fd_available
@@ -94,7 +115,17 @@ def main() -> None:
         action="store_true",
         help="limit every other configuration to the default's wall seconds",
     )
+    ap.add_argument(
+        "--repeat",
+        type=int,
+        default=1,
+        help="runs in all of each configuration that takes under --repeat-below seconds; "
+        "the fastest counts",
+    )
+    ap.add_argument("--repeat-below", type=float, default=5.0)
     a = ap.parse_args()
+    if a.repeat < 1:
+        ap.error("--repeat must be at least 1")
     # bytecode first, as an installed package has it: where PYTHONDONTWRITEBYTECODE is set,
     # every process would otherwise compile each module it imports from source (the engine
     # that imports more pays more), which is not what a user's run pays
@@ -113,13 +144,15 @@ def main() -> None:
         rows = {}
         limit = a.time_limit
         for label, args in configs(planners, a.product):
-            rows[label] = run(task, args, limit)
+            rows[label] = run_best(task, args, limit, a.repeat, a.repeat_below)
             rows[label]["limit_s"] = limit
             print(task, label, rows[label].get("wall_s"), rows[label].get("exact"), flush=True)
             if label == "default" and a.cutoff and rows[label].get("exact"):
                 limit = min(a.time_limit, rows[label]["wall_s"])
         if not a.no_astar:
-            rows["astar default"] = run(task, [], a.time_limit, engine="astar")
+            rows["astar default"] = run_best(
+                task, [], a.time_limit, a.repeat, a.repeat_below, engine="astar"
+            )
             print(task, "astar", rows["astar default"].get("wall_s"), flush=True)
         records[task] = {"time_limit": a.time_limit, "runs": rows}
         store.write_text(json.dumps(records, indent=1))
