@@ -2,12 +2,12 @@
 whole ``mega-sat frontier`` processes side by side: is the default ever the wrong choice?
 
 For each task folder, each configuration (planner x JOINT method x hitting-set solver; the
-default is the one without options) runs once, one process at a time, under ``--timeout``.
-The table gives the default's wall seconds, the best configuration's, their ratio, the
-``astar`` engine's (its defaults: the built-in planner) and the speedup of the default over it.
-A configuration that does not finish exactly within the limit counts as the limit.  Every
-configuration that finishes must give the same frontier pairs (|E|, robot cost); a
-disagreement is printed and recorded, as it would be a bug.
+default is the one without options) runs once (see ``--repeat``), one process at a time,
+under ``--timeout``.  The table gives the default's wall seconds, the best configuration's,
+their ratio, the ``astar`` engine's (its defaults: the built-in planner) and the speedup of
+the default over it.  A configuration that does not finish exactly within the limit counts
+as the limit.  Every configuration that finishes must give the same frontier pairs (|E|,
+robot cost); a disagreement is printed and recorded, as it would be a bug.
 
     python bench/configs.py --out bench/results/configs --time-limit 60 \\
         'domains/*/delta/2/p*' 'domains/*/delta/7/p*' 'domains/*/delta/10/p*'
@@ -23,10 +23,10 @@ table marks such a best time with ``>``.  Used for the scaling suite, whose slow
 configurations would otherwise run to the limit on every task.
 
 ``--repeat N``: a run that takes under ``--repeat-below`` seconds (5) is run N times in all
-and its fastest run counts (every run's wall seconds are kept in ``walls_s``).  A single
-run of half a second varies by a third from one run to the next on this machine, more than
-the 1.5x the target allows between configurations; the fastest of a few is the usual
-estimate of what the code itself costs.
+and its fastest run counts (every run's wall seconds are kept in ``walls_s``).  Short runs
+are mostly start-up and vary from run to run, by as much as the target allows between
+configurations; the fastest of a few is the usual estimate of what the code itself costs
+(the spread is measured in bench/README.md).
 """
 
 from __future__ import annotations
