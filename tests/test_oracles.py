@@ -16,6 +16,7 @@ from helpers.sat_families import (
 from hypothesis import given
 from hypothesis import strategies as st
 
+from mega_sat.analysis.monotone import drop_relaxing
 from mega_sat.deadline import Deadline
 from mega_sat.ground.family import GroundAction, GroundFamily, holds
 from mega_sat.options import Options
@@ -478,8 +479,9 @@ def test_joint_below_the_human_optimum_under_dominance_has_sound_cores(fam, data
         r = orc.joint(sel, rb, hb, human_lower_bound=c_star)
         assert orc.stats.joint_by_dominance == 1
         assert r.status == "infeasible" and r.exact and joint_brute(fam, sel, rb, hb) is None
-        if budget == 0 and not counting:
-            assert r.core == {(i, i in sel) for i in range(fam.n_updates)} and r.calls == 0
+        if budget == 0 and not counting:  # no trials: the assignment, less its relaxing values
+            full = [(i, i in sel) for i in range(fam.n_updates)]
+            assert r.core == drop_relaxing(full, orc.restricting) and r.calls == 0
         for other in agreeing(r.core, fam.n_updates):
             assert joint_brute(fam, other, rb, hb) is None
         assert orc.joint_lits(r.core, rb, hb).status == "infeasible"
@@ -493,6 +495,26 @@ def test_joint_below_the_human_optimum_under_dominance_has_sound_cores(fam, data
             again = orc.joint(other, rb, c_other, human_lower_bound=c_other)
             assert again.status == "infeasible" and again.core == r.core and again.calls == 0
             assert orc.stats.joint_core_reused == 1
+
+
+def test_dominance_core_without_trials_leaves_out_relaxing_values():
+    """Found by the long fuzz budget: with no conflicts to spend and no counting, the core of
+    "K < c*(E)" is the assignment less its literals at a relaxing value.  Update 1 adds a
+    negative precondition to the only producer of the goal, so "update 1 off" relaxes and a
+    core never needs it; update 0 (the goal atom initially true) has no direction, since a
+    negative precondition tests that atom."""
+    a0 = GroundAction("a0", ("o0",), None, (), ((0, (1, True)),), ((0, None),), (), (((), 1),))
+    fam = GroundFamily((("p0",),), 2, (a0,), ((0, (0, True)),), ((0, None),))
+    sel = frozenset()
+    assert dijkstra(fam.specialize(sel)) == 1 and dijkstra(fam.specialize(fam.robot_selection)) == 0
+    with SatOracles(
+        fam, operator_counting=False, options=Options(dominance_conflict_budget=0)
+    ) as orc:
+        r = orc.joint(sel, 0, 1, human_lower_bound=1)
+        assert r.status == "infeasible" and r.exact and r.calls == 0
+        assert r.core == {(0, False)}
+        for other in agreeing(r.core, fam.n_updates):
+            assert joint_brute(fam, other, 0, 1) is None
 
 
 @SETTINGS
