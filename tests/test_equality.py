@@ -262,10 +262,10 @@ def test_random_equalities_against_the_named_predicate(task):
     _check_against_named(task)
 
 
-# found by the long fuzz budget: the two groundings keep different dead actions.  In the
-# first, "=" rules out (mark o0 o0) while grounding, so (p2 o0) is never reached and
-# (use o0 ?y) goes too, which the named predicate keeps; in the second, the human's (a0 ?x)
-# needs (p0 ?x ?x) false, which no action can make true
+# two tasks whose groundings keep different dead actions.  In the first, "=" rules out
+# (mark o0 o0) while grounding, so (p2 o0) is never reached and (use o0 ?y) goes too, which
+# the named predicate keeps; in the second, the human's (a0 ?x) needs (p0 ?x ?x) false, which
+# no action can make true
 CHAIN_DOMAIN = """(define (domain chain-eq)
   (:requirements :strips :equality :negative-preconditions)
   (:predicates (done) (p1 ?x) (p2 ?x))
@@ -317,7 +317,7 @@ def _check_against_named(task: TwoModelTask) -> None:
     fam, fam_named = ground(task), ground(named)
     # every member of the family has the same optimal cost.  Not always the same live actions:
     # "=" is decided while grounding, before reachability, and the two groundings then prune
-    # dead and duplicate actions differently (the long fuzz budget found both directions)
+    # dead and duplicate actions differently, in either direction
     by_name = {u.name: i for i, u in enumerate(named.delta)}
     for k in range(len(task.delta) + 1):
         for sel in itertools.combinations(range(len(task.delta)), k):

@@ -498,7 +498,7 @@ def test_joint_below_the_human_optimum_under_dominance_has_sound_cores(fam, data
 
 
 def test_dominance_core_without_trials_leaves_out_relaxing_values():
-    """Found by the long fuzz budget: with no conflicts to spend and no counting, the core of
+    """With no conflicts to spend and no counting, the core of
     "K < c*(E)" is the assignment less its literals at a relaxing value.  Update 1 adds a
     negative precondition to the only producer of the goal, so "update 1 off" relaxes and a
     core never needs it; update 0 (the goal atom initially true) has no direction, since a
