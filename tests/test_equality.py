@@ -16,7 +16,7 @@ import pytest
 from helpers.bruteforce import brute_force_frontier
 from helpers.fuzzing import oracle_settings
 from helpers.randomtasks import PARAMS, two_model_tasks
-from helpers.sat_families import dijkstra
+from helpers.sat_families import _succ, dijkstra
 from hypothesis import HealthCheck, given
 from hypothesis import strategies as st
 
@@ -106,14 +106,12 @@ def _small(task: GroundTask, limit: int = 20_000) -> bool:
     while frontier:
         nxt = []
         for state in frontier:
-            for a in task.actions:
-                if a.pre <= state and not a.negpre & state:
-                    succ = (state - a.delete) | a.add
-                    if succ not in seen:
-                        if len(seen) >= limit:
-                            return False
-                        seen.add(succ)
-                        nxt.append(succ)
+            for _, succ in _succ(task, state):
+                if succ not in seen:
+                    if len(seen) >= limit:
+                        return False
+                    seen.add(succ)
+                    nxt.append(succ)
         frontier = nxt
     return True
 
