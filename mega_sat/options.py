@@ -173,6 +173,24 @@ class Options:
             "(off: an FD call answers instead; on small tasks that is faster, bench/README.md)"
         },
     )
+    counterexample_loop_updates: int = field(
+        default=11,
+        metadata={
+            "doc": "the fewest updates a task needs for the sat engine to compute its frontier "
+            "by the counterexample loop (one JOINT formula with the explanation free, "
+            "encodings/counterexamples.md) instead of the hitting-set loop (0: never)",
+            "zero": True,
+        },
+    )
+    counterexample_plan_conflicts: int = field(
+        default=2000,
+        metadata={
+            "doc": "conflicts of the one SAT call the counterexample loop makes for a plan "
+            "cheaper than its candidate's (or than the coverage check's bound) before it asks "
+            "OPT for the model's optimum (0: OPT at once)",
+            "zero": True,
+        },
+    )
     plan_below_robot_max_updates: int = field(
         default=10,
         metadata={

@@ -26,6 +26,11 @@ import time
 from mega_sat.analysis.joint_pairs import JointPairs
 from mega_sat.analysis.monotone import drop_relaxing, drop_restricting
 from mega_sat.deadline import Deadline, TimeLimitReached
+from mega_sat.engines.counterexample_loop import (
+    HandOver,
+    counterexample_frontier,
+    use_counterexample_loop,
+)
 from mega_sat.engines.hitting_set import make_hitting_set
 from mega_sat.engines.progress import Progress, lower_bound_note
 from mega_sat.engines.support import (
@@ -34,7 +39,7 @@ from mega_sat.engines.support import (
     exclusion_clause,
     unsolvable_core,
 )
-from mega_sat.ground.family import GroundFamily
+from mega_sat.ground.family import GroundFamily, GuardLit
 from mega_sat.ground.simulate import ground_plan_cost
 from mega_sat.model.task import TwoModelTask
 from mega_sat.options import DEFAULT, Options
@@ -208,6 +213,7 @@ def sat_frontier(
         "invariant_cores": 0,
         "plan_below_robot_by_search": 0,
         "joint_by_fd": 0,
+        "loop": "hitting set",
     }
     budget = _Budget(joint_conflict_budget, options)
     _searcher = []
@@ -324,13 +330,15 @@ def sat_frontier(
     def learn_core(sel, res, plan) -> None:
         """Learn NOT(sel on core ∪ causal support of ``plan``), ``plan`` a plan of
         ``human + sel`` whose cost was JOINT's human bound (encodings/hitting-set.md)."""
+        _learn(hs, core_clause(sel, res, plan), stats)
+
+    def core_clause(sel, res, plan) -> tuple[GuardLit, ...]:
         nonlocal exact
         if not res.exact:
             exact = False
             notes.append(f"JOINT not exact (|E|={len(sel)}): {res.reason}")
         if res.core is None:  # a search that records no core: exclude sel alone
-            _learn(hs, exclusion_clause(sel, all_updates), stats)
-            return
+            return exclusion_clause(sel, all_updates)
         # "no joint plan within the bounds" survives moves to sub-models, "plan runs within
         # the human bound" moves to super-models: each side drops the other's literals
         on = {i for i, _ in drop_relaxing(res.core, restricting)}
@@ -338,10 +346,31 @@ def sat_frontier(
             # no joint plan at any bound where sel's core holds: the plan's support (which
             # only keeps the human bound valid) is not needed
             stats["joint_cores_without_plan"] += 1
-            _learn(hs, exclusion_clause(sel, on), stats)
-            return
+            return exclusion_clause(sel, on)
         on |= {i for i, _ in drop_restricting(causal_support(family, sel, plan), restricting)}
-        _learn(hs, exclusion_clause(sel, on), stats)
+        return exclusion_clause(sel, on)
+
+    def joint_alone(sel, opt):
+        """JOINT of one model at the horizon of its own optimum, for a model of the
+        counterexample loop whose plans may be longer than its formula's: the solution
+        ``((plan, robot cost, human cost), None)``, or ``(None, clause)`` with the clause
+        that excludes the model."""
+        nonlocal exact
+        res = orc.joint(
+            sel,
+            None,
+            opt.cost,
+            hints=(opt.plan,),
+            robot_lower_bound=robot_lb,
+            human_lower_bound=opt.cost if opt.exact else None,
+        )
+        stats["joint_calls"] += 1
+        if res.plan is None:
+            return None, core_clause(sel, res, opt.plan)
+        if not res.exact:
+            exact = False
+            notes.append(f"JOINT not exact (|E|={len(sel)}): {res.reason}")
+        return (tuple(res.plan), res.robot_cost, res.human_cost), None
 
     all_updates = range(len(task.delta))
     restricting = orc.restricting
@@ -349,6 +378,95 @@ def sat_frontier(
     pairs = JointPairs(family) if options.joint_pair_proofs else None
     inv_cores: InvariantCores | None = None  # built at the first IC3 invariant
     ic3_streak = Ic3Streak(options.unsolvable_core_ic3_misses)  # shared by the run's cores
+
+    def unsolvable_clause(sel, opt) -> tuple[GuardLit, ...]:
+        """The exclusion of a model OPT found no plan for (or did not decide): no solution
+        can use it, nor any model agreeing with it on a core that keeps it unsolvable."""
+        nonlocal exact, inv_cores
+        on = None
+        if opt.status == Status.UNSOLVABLE:
+            stats["unsolvable_models"] += 1
+            # the core's searches only shrink the exclusion, so they stop at the
+            # deadline: a smaller core is not worth running past the time limit
+            cubes = orc.take_invariant(sel)
+            if cubes is not None:
+                # IC3's invariant, checked with the updates free one at a time
+                if inv_cores is None:
+                    inv_cores = InvariantCores(family)
+                on = inv_cores.core(sel, cubes)
+                stats["invariant_cores"] += on is not None
+            if on is None:
+                short: list[int] = []
+                on = unsolvable_core(
+                    family,
+                    sel,
+                    state_limit=options.unsolvable_core_states,
+                    work_limit=options.unsolvable_core_work,
+                    trial_limit=options.unsolvable_core_trial_states,
+                    trial_growth=options.unsolvable_core_trial_growth,
+                    deadline=deadline,
+                    cut_short=short,
+                    ic3_queries=options.unsolvable_core_ic3_queries,
+                    ic3_streak=ic3_streak,
+                )
+                stats["unsolvable_core_cut_short"] += sum(short)
+        else:
+            exact = False
+            notes.append(f"OPT undecided for a model with |E|={len(sel)}: {opt.reason}")
+        on = all_updates if on is None else on
+        if opt.status == Status.UNSOLVABLE:  # "no plan" holds in every sub-model
+            on = {i for i, _ in drop_relaxing(((i, i in sel) for i in on), restricting)}
+        return exclusion_clause(sel, on)
+
+    landmarks: list[int] = []
+
+    def run_counterexample_loop() -> bool:
+        """The frontier by the counterexample loop; False if it hands the task back."""
+        nonlocal complete, exact, lower_bound
+
+        def make_point(sel, plan, rc, hc) -> FrontierPoint:
+            tiered.remember(tuple(plan))
+            return FrontierPoint(tuple(task.names(sel)), sel, tuple(plan), rc, hc, None)
+
+        stats["loop"] = "counterexamples"
+        try:
+            r = counterexample_frontier(
+                orc,
+                c_robot=c_robot,
+                opt_of=opt_of,
+                unsolvable_clause=unsolvable_clause,
+                joint_alone=joint_alone,
+                landmarks=landmarks,
+                pairs=pairs,
+                make_point=make_point,
+                deadline=deadline,
+                progress=progress,
+                stats=stats,
+                notes=notes,
+                solver=solver,
+                options=options,
+            )
+        except HandOver as e:
+            notes.append(f"counterexample loop handed over to the hitting-set loop: {e}")
+            stats["loop"] = "hitting set"
+            return False
+        except (OracleInterrupted, TimeLimitReached) as e:
+            if getattr(e, "forced", False):
+                raise
+            r = None
+        if r is None or not r.complete:
+            lower_bound = progress.lower_bound or 0
+            note = lower_bound_note(lower_bound, bool(progress.points), weighted)
+            notes.append(
+                f"time limit {deadline.seconds}s reached: frontier incomplete"
+                + (f"; {note}" if note else "")
+            )
+        else:
+            complete = True
+            exact = exact and r.exact
+        points.extend(progress.points[len(points) :])
+        return True
+
     try:
         # updates every solution needs, proven once: each a unit clause.  A robot plan that
         # runs in the human model is a joint plan of E = {}: then there are none to prove.
@@ -357,8 +475,12 @@ def sat_frontier(
         ):
             for i in sorted(pairs.landmarks(deadline)):
                 stats["explanation_landmarks"] += 1
+                landmarks.append(i)
                 _learn(hs, ((i, True),), stats)
-        while True:
+        by_counterexamples = use_counterexample_loop(orc, options, weighted)
+        if by_counterexamples:
+            by_counterexamples = run_counterexample_loop()
+        while not by_counterexamples:
             if deadline.expired():
                 time_out()
                 break
@@ -424,40 +546,7 @@ def sat_frontier(
                 break
             if opt is not None and opt.status != Status.OPTIMAL:
                 # no plan (or none found): no solution can use this model; exclude it
-                on = None
-                if opt.status == Status.UNSOLVABLE:
-                    stats["unsolvable_models"] += 1
-                    # the core's searches only shrink the exclusion, so they stop at the
-                    # deadline: a smaller core is not worth running past the time limit
-                    cubes = orc.take_invariant(sel)
-                    if cubes is not None:
-                        # IC3's invariant, checked with the updates free one at a time
-                        if inv_cores is None:
-                            inv_cores = InvariantCores(family)
-                        on = inv_cores.core(sel, cubes)
-                        stats["invariant_cores"] += on is not None
-                    if on is None:
-                        short: list[int] = []
-                        on = unsolvable_core(
-                            family,
-                            sel,
-                            state_limit=options.unsolvable_core_states,
-                            work_limit=options.unsolvable_core_work,
-                            trial_limit=options.unsolvable_core_trial_states,
-                            trial_growth=options.unsolvable_core_trial_growth,
-                            deadline=deadline,
-                            cut_short=short,
-                            ic3_queries=options.unsolvable_core_ic3_queries,
-                            ic3_streak=ic3_streak,
-                        )
-                        stats["unsolvable_core_cut_short"] += sum(short)
-                else:
-                    exact = False
-                    notes.append(f"OPT undecided for a model with |E|={len(sel)}: {opt.reason}")
-                on = all_updates if on is None else on
-                if opt.status == Status.UNSOLVABLE:  # "no plan" holds in every sub-model
-                    on = {i for i, _ in drop_relaxing(((i, i in sel) for i in on), restricting)}
-                _learn(hs, exclusion_clause(sel, on), stats)
+                _learn(hs, unsolvable_clause(sel, opt), stats)
                 continue
             if opt is not None and not opt.exact:
                 exact = False
