@@ -27,8 +27,17 @@ from mega_sat.planners.val import val_available
 
 ROOT = Path(__file__).resolve().parent.parent
 USAR = ROOT / "domains" / "usar-fetch" / "p1"
-LONG_FRONTIER = ROOT / "domains" / "usar-fetch" / "delta" / "30" / "p1"
-"""A frontier that takes over a minute and finds its first point within about a second."""
+LONG_FRONTIERS = {
+    # the hitting-set loop: several seconds, its first point within about a second
+    "hitting set": [
+        "--task",
+        str(ROOT / "domains" / "usar-fetch" / "delta" / "30" / "p1"),
+        "--option",
+        "counterexample_loop_updates=0",
+    ],
+    # the counterexample loop: over a minute, no point within the first seconds
+    "counterexamples": ["--task", str(ROOT / "domains" / "rover-martian" / "delta" / "30" / "p3")],
+}
 
 PROGRAM = [
     sys.executable,
@@ -456,9 +465,10 @@ def test_large_grounding_stops_within_the_slack(big_grounding):
 # --------------------------------------------------------------------------- interrupts
 
 
+@pytest.mark.parametrize("loop", sorted(LONG_FRONTIERS))
 @pytest.mark.parametrize("sig, code", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
-def test_interrupt_prints_the_partial_frontier(sig, code):
-    proc = _spawn(["frontier", "--task", LONG_FRONTIER, "--json"])
+def test_interrupt_prints_the_partial_frontier(sig, code, loop):
+    proc = _spawn(["frontier", *LONG_FRONTIERS[loop], "--json"])
     time.sleep(3.0)
     assert proc.poll() is None, "the frontier ended before the signal"
     proc.send_signal(sig)
