@@ -178,7 +178,8 @@ class Options:
         metadata={
             "doc": "the fewest updates a task needs for the sat engine to compute its frontier "
             "by the counterexample loop (one JOINT formula with the explanation free, "
-            "encodings/counterexamples.md) instead of the hitting-set loop (0: never)",
+            "encodings/counterexamples.md) instead of the hitting-set loop, unless "
+            "--hitting-set ilp or --joint search asks for that loop's parts (0: never)",
             "zero": True,
         },
     )

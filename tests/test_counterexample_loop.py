@@ -170,6 +170,15 @@ def test_the_loop_runs_from_its_number_of_updates_on():
     assert on.exact and on.complete
 
 
+def test_the_hitting_set_loops_own_parts_ask_for_that_loop():
+    task = load_task_dir(ROVER)
+    fam = ground(task)
+    for kw in ({"hitting_set": "ilp"}, {"joint": "search"}):
+        fr = sat_frontier(task, fam, options=ALWAYS, **kw)
+        assert fr.stats["loop"] == "hitting set", kw
+    assert sat_frontier(task, fam, options=ALWAYS, joint="sat").stats["loop"] == "counterexamples"
+
+
 def test_a_time_limit_gives_the_points_so_far_and_a_lower_bound():
     # the whole frontier takes some 20 s on this machine
     task = load_task_dir("domains/rover-martian/delta/10/p3")

@@ -477,7 +477,12 @@ def sat_frontier(
                 stats["explanation_landmarks"] += 1
                 landmarks.append(i)
                 _learn(hs, ((i, True),), stats)
-        by_counterexamples = use_counterexample_loop(orc, options, weighted)
+        # --hitting-set ilp and --joint search ask for the hitting-set loop's own parts
+        by_counterexamples = (
+            hitting_set == "rc2"
+            and joint != "search"
+            and use_counterexample_loop(orc, options, weighted)
+        )
         if by_counterexamples:
             by_counterexamples = run_counterexample_loop()
         while not by_counterexamples:
