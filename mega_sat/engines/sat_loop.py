@@ -365,6 +365,10 @@ def sat_frontier(
             human_lower_bound=opt.cost if opt.exact else None,
         )
         stats["joint_calls"] += 1
+        if not res.status.decided:  # a search that gave up proves nothing
+            exact = False
+            notes.append(f"JOINT undecided (|E|={len(sel)}): {res.reason}")
+            return None, exclusion_clause(sel, all_updates)
         if res.plan is None:
             return None, core_clause(sel, res, opt.plan)
         if not res.exact:
@@ -429,6 +433,7 @@ def sat_frontier(
             return FrontierPoint(tuple(task.names(sel)), sel, tuple(plan), rc, hc, None)
 
         stats["loop"] = "counterexamples"
+        shown = len(progress.points)
         try:
             r = counterexample_frontier(
                 orc,
@@ -447,6 +452,8 @@ def sat_frontier(
                 options=options,
             )
         except HandOver as e:
+            # the hitting-set loop starts afresh and reports its own points
+            del progress.points[shown:]
             notes.append(f"counterexample loop handed over to the hitting-set loop: {e}")
             stats["loop"] = "hitting set"
             return False
