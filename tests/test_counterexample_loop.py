@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from itertools import combinations
 
-from helpers.bruteforce import brute_force_frontier
+from helpers.bruteforce import brute_force_frontier, check_witnesses
 from helpers.fuzzing import oracle_settings
 from helpers.randomtasks import two_model_tasks
 from helpers.tradeoff_tasks import tradeoff_tasks
@@ -20,7 +20,6 @@ from hypothesis import strategies as st
 from mega_sat.deadline import Deadline
 from mega_sat.engines.counterexample_loop import Counterexample, CounterexampleFormula
 from mega_sat.engines.sat_loop import sat_frontier
-from mega_sat.engines.verify import verify_pair
 from mega_sat.ground.grounding import ground
 from mega_sat.ground.simulate import ground_plan_cost
 from mega_sat.options import Options
@@ -54,21 +53,8 @@ def test_counterexample_frontier_equals_brute_force(task, planner):
     if fam.min_cost > 0 and fam.n_updates:
         assert fr.stats["loop"] == "counterexamples"
         assert fr.exact
-    for p in fr.points:
-        r = results[p.selection]
-        assert r.robot_cost is not None and r.robot_cost <= p.robot_cost
-        assert r.human_cost == p.human_cost
-        rep = verify_pair(
-            task,
-            fam,
-            p.selection,
-            p.plan,
-            producer="sat",
-            robot_cost=p.robot_cost,
-            human_cost=p.human_cost,
-            use_val=False,
-        )
-        assert rep.ok, rep.lines()
+    check_witnesses(task, fam, fr.points, results)
+    assert all(results[p.selection].human_cost == p.human_cost for p in fr.points)
 
 
 def _selections(n):

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
-from helpers.bruteforce import brute_force_frontier, brute_force_mce
+from helpers.bruteforce import brute_force_frontier, brute_force_mce, check_witnesses
 from helpers.fuzzing import oracle_settings
 from helpers.minitasks import usar_like
 from helpers.randomtasks import two_model_tasks
@@ -89,23 +89,8 @@ def test_sat_frontier_with_costs_equals_brute_force(task, data, hs, joint):
     assert fr.robot_optimal_cost == c_r
     assert _pairs(fr.points) == _pairs(pts)
     assert fr.complete and fr.exact and fr.update_costs == costs
-    for p in fr.points:
-        assert p.weighted_cost == _w(p.selection, costs)
-        r = results[p.selection]
-        assert r.robot_cost is not None and r.robot_cost <= p.robot_cost
-        rep = verify_pair(
-            task,
-            fam,
-            p.selection,
-            p.plan,
-            producer="sat",
-            robot_cost=p.robot_cost,
-            human_cost=p.human_cost,
-            use_val=False,
-            update_costs=costs,
-            explanation_cost=p.weighted_cost,
-        )
-        assert rep.ok and rep.explanation_cost == p.weighted_cost, rep.lines()
+    assert all(p.weighted_cost == _w(p.selection, costs) for p in fr.points)
+    check_witnesses(task, fam, fr.points, results, update_costs=costs)
     # one frontier answers every alpha: the brute-force optimum of the weighted objective
     for alpha in (0, 0.4, 1, 3, 100):
         a = Fraction(repr(float(alpha)))

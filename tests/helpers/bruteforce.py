@@ -232,3 +232,32 @@ def brute_force_mme(
     costs = update_costs if update_costs is not None else (1,) * n
     sizes = [sum(costs[i] for i in range(n) if m >> i & 1) for m in range(1 << n) if monotonic[m]]
     return min(sizes, default=None)
+
+
+def check_witnesses(
+    task: TwoModelTask, fam: GroundFamily, points, results, update_costs=None
+) -> None:
+    """Every frontier point's witness is a real MEGA solution: the oracle's best plan for its
+    explanation is no dearer for the robot, and ``verify_pair`` (simulation, no VAL) accepts
+    it, with the point's explanation cost when there are ``update_costs``."""
+    from mega_sat.engines.verify import verify_pair
+
+    for p in points:
+        r = results[p.selection]
+        assert r.robot_cost is not None and r.robot_cost <= p.robot_cost
+        weighted = {}
+        if update_costs is not None:
+            weighted = {"update_costs": update_costs, "explanation_cost": p.weighted_cost}
+        rep = verify_pair(
+            task,
+            fam,
+            p.selection,
+            p.plan,
+            producer="sat",
+            robot_cost=p.robot_cost,
+            human_cost=p.human_cost,
+            use_val=False,
+            **weighted,
+        )
+        assert rep.ok, rep.lines()
+        assert update_costs is None or rep.explanation_cost == p.weighted_cost
