@@ -28,7 +28,7 @@ from mega_sat.sat.oracles import SatOracles
 from mega_sat.status import Status
 
 SETTINGS = oracle_settings(
-    120, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much]
+    80, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much]
 )
 ALWAYS = Options(counterexample_loop_updates=1)
 TASKS = st.one_of(two_model_tasks(max_delta=6), tradeoff_tasks())
