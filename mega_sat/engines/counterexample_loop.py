@@ -242,7 +242,7 @@ class HandOver(Exception):  # noqa: N818 - the loop hands the task to the hittin
     """The counterexample loop cannot prove its answers here (a horizon past the cap)."""
 
 
-@dataclass
+@dataclass(frozen=True)
 class LoopResult:
     points: list
     complete: bool
@@ -273,8 +273,9 @@ def counterexample_frontier(
     until it has none within the robot bound ``K``; a candidate that OPT confirms is the best
     so far at this level and lowers ``K``.  While ``K`` is unbounded, an empty level is only
     proven once every selection of the level has a counterexample cheaper than the cost at
-    which plans stop fitting the formula's horizon; a selection without one is decided by OPT
-    (a new counterexample, an unsolvable model, or a longer horizon)."""
+    which plans stop fitting the formula's horizon; a selection without one is settled by h^2
+    on the product, a cheap plan, or OPT (a counterexample, an unsolvable core, a longer
+    formula or JOINT alone)."""
     cap = options.horizon_cap
     formula: list[CounterexampleFormula] = []
     learned: list = []  # counterexamples and exclusions, replayed into a longer formula
