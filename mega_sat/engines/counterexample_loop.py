@@ -43,7 +43,6 @@ class CounterexampleStats:
     counterexamples: int = 0
     coverage_checks: int = 0
     formula_horizons: list[int] = field(default_factory=list)
-    candidate_calls: int = 0
     joint_alone: int = 0
     plans_found: int = 0
 
@@ -372,7 +371,6 @@ def counterexample_frontier(
             if h > f.horizon:
                 f = build(h)
             stats["iterations"] += 1
-            cx.candidate_calls += 1
             got = f.candidate(k, bound, h, solve)
             if got is None:
                 if bound is None:
